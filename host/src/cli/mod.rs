@@ -1,0 +1,383 @@
+//! The command line. The only module that knows about argv, files, standard
+//! streams and terminals; everything else takes readers and returns values.
+
+mod report;
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, IsTerminal, Read, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::config::Config;
+use crate::emit::{preamble, Emitter};
+use crate::lex::{Lexed, Lexer, TokenKind};
+use crate::parse::parse;
+use crate::passes::{translate, Event, Library, LAST_STAGE};
+use crate::statement::Units;
+use report::{plain_error, read_error, Report};
+
+#[derive(Parser)]
+#[command(
+    name = "ger",
+    version,
+    about = "G-code emulatoR, verifiER and transpilER for 3-axis mills and routers"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Translate a program to simple G-code (absolute G00-G03 in one unit).
+    #[command(visible_alias = "translate")]
+    Run(RunArgs),
+    /// Report the program's diagnostics only.
+    Check(CommonArgs),
+    /// Show the lexer's view: one token a line.
+    Tokens(InputArg),
+    /// Show the parser's view: one statement a line, before any pass.
+    Parse(InputArg),
+}
+
+#[derive(Args)]
+struct InputArg {
+    /// The G-code program (`-` reads standard input).
+    file: PathBuf,
+}
+
+#[derive(Args)]
+struct CommonArgs {
+    /// The G-code program (`-` reads standard input).
+    file: PathBuf,
+    /// The machine description [default: ger.toml beside FILE, if there is one].
+    #[arg(long, value_name = "FILE")]
+    config: Option<PathBuf>,
+    /// The machine's unit, overriding the config file.
+    #[arg(long, value_enum)]
+    units: Option<UnitsArg>,
+}
+
+#[derive(Args)]
+struct RunArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// Write the translation here instead of standard output.
+    #[arg(short, long, value_name = "OUT")]
+    output: Option<PathBuf>,
+    /// Stop after this pass: 0 subprograms, 1 units, 2 offsets, 3 polar,
+    /// 4 absolute, 5 cutter comp.
+    #[arg(long, default_value_t = LAST_STAGE, value_parser = clap::value_parser!(u8).range(0..=LAST_STAGE as i64))]
+    stage: u8,
+    /// Leave out the N<line> on each output line.
+    #[arg(long)]
+    no_line_numbers: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum UnitsArg {
+    #[value(name = "in", alias = "inch")]
+    Inch,
+    Mm,
+}
+
+/// Runs ger with the process's arguments; returns the exit status:
+/// 0 clean (warnings allowed), 1 errors, 2 usage.
+pub fn main() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(err) => {
+            let _ = err.print();
+            return if err.use_stderr() { 2 } else { 0 };
+        }
+    };
+    let result = match cli.command {
+        Command::Run(args) => run(&args),
+        Command::Check(args) => check(&args),
+        Command::Tokens(args) => tokens(&args.file),
+        Command::Parse(args) => parse_only(&args.file),
+    };
+    match result {
+        Ok(status) => status,
+        Err(message) => {
+            eprint!("{message}");
+            1
+        }
+    }
+}
+
+/// A program to read: a file, which can be read again from the start, or
+/// standard input, held in memory so it can be too.
+enum Input {
+    File(PathBuf),
+    Stdin(Vec<u8>),
+}
+
+impl Input {
+    fn new(path: &Path) -> Result<Input, String> {
+        if path == Path::new("-") {
+            let mut buffer = Vec::new();
+            io::stdin()
+                .read_to_end(&mut buffer)
+                .map_err(|err| read_error("standard input", &err))?;
+            return Ok(Input::Stdin(buffer));
+        }
+        // Open once now so a missing file is reported before anything runs.
+        File::open(path).map_err(|err| read_error(&path.display().to_string(), &err))?;
+        Ok(Input::File(path.to_path_buf()))
+    }
+
+    fn name(&self) -> String {
+        match self {
+            Input::File(path) => path.display().to_string(),
+            Input::Stdin(_) => "<stdin>".to_string(),
+        }
+    }
+
+    /// A fresh reader from the start of the program.
+    fn open(&self) -> Box<dyn BufRead + '_> {
+        match self {
+            Input::File(path) => match File::open(path) {
+                Ok(file) => Box::new(BufReader::with_capacity(1 << 16, file)),
+                Err(err) => Box::new(FailingReader(Some(err))),
+            },
+            Input::Stdin(buffer) => Box::new(buffer.as_slice()),
+        }
+    }
+
+    fn dir(&self) -> PathBuf {
+        match self {
+            Input::File(path) => path
+                .parent()
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+            Input::Stdin(_) => PathBuf::from("."),
+        }
+    }
+}
+
+/// A reader whose first read fails: the lexer turns that into a diagnostic.
+struct FailingReader(Option<io::Error>);
+
+impl Read for FailingReader {
+    fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+        self.0.take().map_or(Ok(0), Err)
+    }
+}
+
+impl BufRead for FailingReader {
+    fn fill_buf(&mut self) -> io::Result<&[u8]> {
+        self.0.take().map_or(Ok(&[]), Err)
+    }
+
+    fn consume(&mut self, _: usize) {}
+}
+
+fn load_config(args: &CommonArgs, input: &Input) -> Result<Config, String> {
+    let path = match &args.config {
+        Some(path) => Some(path.clone()),
+        None => Some(input.dir().join("ger.toml")).filter(|p| p.is_file()),
+    };
+    let mut config = match path {
+        None => Config::default(),
+        Some(path) => {
+            let name = path.display().to_string();
+            let text = std::fs::read_to_string(&path).map_err(|err| read_error(&name, &err))?;
+            Config::from_toml(&text).map_err(|diagnostic| {
+                let mut report = Report::default();
+                report.add(diagnostic);
+                report
+                    .render(&name, text.as_bytes(), styled())
+                    .replace("could not translate the program", "bad configuration")
+            })?
+        }
+    };
+    if let Some(units) = args.units {
+        config.units = match units {
+            UnitsArg::Inch => Units::Inch,
+            UnitsArg::Mm => Units::Mm,
+        };
+    }
+    Ok(config)
+}
+
+fn styled() -> bool {
+    io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
+}
+
+/// Translates `input`, handing each output line to `write`; collects the diagnostics.
+fn translate_into(
+    input: &Input,
+    config: &Config,
+    stage: u8,
+    line_numbers: bool,
+    mut write: impl FnMut(&str) -> io::Result<()>,
+) -> io::Result<Report> {
+    let library = Library::scanning(|| Library::scan(input.open()));
+    // Before pass 01 the numbers are still in the program's own units, which may be finer.
+    let decimals = if stage == 0 {
+        4
+    } else {
+        config.units.decimals()
+    };
+    let emitter = Emitter::new(decimals, line_numbers);
+    let mut report = Report::default();
+    let mut line = String::new();
+    for event in translate(input.open(), library, config, stage) {
+        match event {
+            Event::Statement(statement) => {
+                line.clear();
+                emitter.write(&mut line, &statement);
+                line.push('\n');
+                write(&line)?;
+            }
+            Event::Diagnostic(diagnostic) => report.add(diagnostic),
+        }
+    }
+    Ok(report)
+}
+
+fn show(report: &Report, input: &Input) {
+    if report.errors() + report.warnings() > 0 {
+        eprint!("{}", report.render(&input.name(), input.open(), styled()));
+    }
+}
+
+fn run(args: &RunArgs) -> Result<i32, String> {
+    let input = Input::new(&args.common.file)?;
+    let config = load_config(&args.common, &input)?;
+    // Write to a temporary file first: a failed run leaves no half-written output.
+    let dir = args
+        .output
+        .as_ref()
+        .and_then(|p| p.parent())
+        .filter(|d| !d.as_os_str().is_empty());
+    let temp = match dir {
+        Some(dir) => tempfile::NamedTempFile::new_in(dir),
+        None if args.output.is_some() => tempfile::NamedTempFile::new_in("."),
+        None => tempfile::NamedTempFile::new(),
+    }
+    .map_err(|err| plain_error(&format!("cannot create the output file: {err}"), None))?;
+    let mut writer = io::BufWriter::with_capacity(1 << 16, temp);
+    let write_failed =
+        |err: io::Error| plain_error(&format!("cannot write the output: {err}"), None);
+    writer
+        .write_all(preamble(&input.name(), config.units).as_bytes())
+        .map_err(write_failed)?;
+    let report = translate_into(&input, &config, args.stage, !args.no_line_numbers, |line| {
+        writer.write_all(line.as_bytes())
+    })
+    .map_err(write_failed)?;
+    show(&report, &input);
+    if report.errors() > 0 {
+        return Ok(1);
+    }
+    let temp = writer
+        .into_inner()
+        .map_err(|err| write_failed(err.into_error()))?;
+    match &args.output {
+        Some(path) => {
+            temp.persist(path).map_err(|err| {
+                plain_error(
+                    &format!("cannot write {}: {}", path.display(), err.error),
+                    None,
+                )
+            })?;
+        }
+        None => {
+            let mut file = temp.reopen().map_err(write_failed)?;
+            file.rewind().map_err(write_failed)?;
+            let stdout = io::stdout();
+            let mut out = stdout.lock();
+            io::copy(&mut file, &mut out)
+                .and_then(|_| out.flush())
+                .or_else(ignore_broken_pipe)
+                .map_err(write_failed)?;
+        }
+    }
+    Ok(0)
+}
+
+/// `ger run x | head` is not an error.
+fn ignore_broken_pipe(err: io::Error) -> io::Result<()> {
+    if err.kind() == io::ErrorKind::BrokenPipe {
+        Ok(())
+    } else {
+        Err(err)
+    }
+}
+
+fn check(args: &CommonArgs) -> Result<i32, String> {
+    let input = Input::new(&args.file)?;
+    let config = load_config(args, &input)?;
+    let report = translate_into(&input, &config, LAST_STAGE, false, |_| Ok(()))
+        .map_err(|err| plain_error(&err.to_string(), None))?;
+    show(&report, &input);
+    if report.errors() + report.warnings() == 0 {
+        println!("{}: no problems found", input.name());
+    }
+    Ok(i32::from(report.errors() > 0))
+}
+
+fn tokens(path: &Path) -> Result<i32, String> {
+    let input = Input::new(path)?;
+    let mut report = Report::default();
+    let stdout = io::stdout();
+    let mut out = io::BufWriter::new(stdout.lock());
+    for item in Lexer::new(input.open()) {
+        let line = match item {
+            Lexed::Token(token) => {
+                let s = token.span;
+                let kind = match token.kind {
+                    TokenKind::Word { letter, value } => format!("word     {letter}{value}"),
+                    TokenKind::Ident(name) => format!("wizard   {name}"),
+                    TokenKind::Number(value) => format!("number   {value}"),
+                    TokenKind::Str(text) => format!("string   {text:?}"),
+                    TokenKind::Comment(text) => format!("comment  {text:?}"),
+                    TokenKind::End => "end".to_string(),
+                };
+                format!("{}:{}\t{kind}\n", s.line, s.col)
+            }
+            Lexed::Diagnostic(diagnostic) => {
+                report.add(diagnostic);
+                continue;
+            }
+        };
+        if out
+            .write_all(line.as_bytes())
+            .or_else(ignore_broken_pipe)
+            .is_err()
+        {
+            break;
+        }
+    }
+    let _ = out.flush();
+    show(&report, &input);
+    Ok(i32::from(report.errors() > 0))
+}
+
+fn parse_only(path: &Path) -> Result<i32, String> {
+    let input = Input::new(path)?;
+    let emitter = Emitter::new(4, true);
+    let mut report = Report::default();
+    let stdout = io::stdout();
+    let mut out = io::BufWriter::new(stdout.lock());
+    for event in parse(Lexer::new(input.open())) {
+        match event {
+            Event::Statement(statement) => {
+                let line = emitter.line(&statement) + "\n";
+                if out
+                    .write_all(line.as_bytes())
+                    .or_else(ignore_broken_pipe)
+                    .is_err()
+                {
+                    break;
+                }
+            }
+            Event::Diagnostic(diagnostic) => report.add(diagnostic),
+        }
+    }
+    let _ = out.flush();
+    show(&report, &input);
+    Ok(i32::from(report.errors() > 0))
+}

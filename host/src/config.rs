@@ -1,0 +1,221 @@
+//! The machine, as `ger.toml` describes it. Every field has a default, so
+//! no file at all is a valid configuration.
+
+use serde::Deserialize;
+
+use crate::diag::{Diagnostic, Span};
+use crate::statement::Units;
+
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// The machine's unit; the output is entirely in it.
+    #[serde(default = "default_units", with = "units_name")]
+    pub units: Units,
+    /// The work-offsets table: G54..G59, in machine units.
+    #[serde(default)]
+    pub offsets: WorkOffsets,
+    #[serde(default = "default_tools")]
+    pub tools: Vec<Tool>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorkOffsets {
+    #[serde(rename = "G54")]
+    pub g54: Option<[f64; 3]>,
+    #[serde(rename = "G55")]
+    pub g55: Option<[f64; 3]>,
+    #[serde(rename = "G56")]
+    pub g56: Option<[f64; 3]>,
+    #[serde(rename = "G57")]
+    pub g57: Option<[f64; 3]>,
+    #[serde(rename = "G58")]
+    pub g58: Option<[f64; 3]>,
+    #[serde(rename = "G59")]
+    pub g59: Option<[f64; 3]>,
+}
+
+impl WorkOffsets {
+    /// Entry 1..=6 (G54..G59); an entry not in the file is (0, 0, 0).
+    pub fn entry(&self, entry: u8) -> [f64; 3] {
+        let entries = [self.g54, self.g55, self.g56, self.g57, self.g58, self.g59];
+        entries[usize::from(entry - 1)].unwrap_or([0.0; 3])
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ToolKind {
+    Endmill,
+    Ballmill,
+    Drill,
+    CenterDrill,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tool {
+    pub number: u32,
+    pub kind: ToolKind,
+    /// In machine units.
+    pub diameter: f64,
+    pub flute_length: Option<f64>,
+    /// For drills: the point's included angle in degrees.
+    pub tip_angle: Option<f64>,
+}
+
+pub const MAX_TOOLS: usize = 20;
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            units: default_units(),
+            offsets: WorkOffsets::default(),
+            tools: default_tools(),
+        }
+    }
+}
+
+fn default_units() -> Units {
+    Units::Inch
+}
+
+/// Tool 1: a quarter-inch endmill.
+fn default_tools() -> Vec<Tool> {
+    vec![Tool {
+        number: 1,
+        kind: ToolKind::Endmill,
+        diameter: 0.25,
+        flute_length: None,
+        tip_angle: None,
+    }]
+}
+
+mod units_name {
+    use serde::{Deserialize, Deserializer};
+
+    use crate::statement::Units;
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Units, D::Error> {
+        match String::deserialize(d)?.as_str() {
+            "inch" | "in" => Ok(Units::Inch),
+            "mm" => Ok(Units::Mm),
+            other => Err(serde::de::Error::custom(format!(
+                "units must be \"inch\" or \"mm\", not \"{other}\""
+            ))),
+        }
+    }
+}
+
+impl Config {
+    /// Parses a `ger.toml`. The diagnostic's span points into `text`.
+    pub fn from_toml(text: &str) -> Result<Config, Diagnostic> {
+        let config: Config = toml::from_str(text).map_err(|err| {
+            let span = err
+                .span()
+                .map_or(Span::new(1, 1, 0), |range| span_of(text, range));
+            Diagnostic::error(span, err.message().to_string())
+        })?;
+        config.validate(text)
+    }
+
+    fn validate(self, text: &str) -> Result<Config, Diagnostic> {
+        let at_key = |key: &str| {
+            let line = text
+                .lines()
+                .position(|l| l.trim_start().starts_with(key))
+                .unwrap_or(0);
+            Span::new(line as u32 + 1, 1, 0)
+        };
+        if self.tools.len() > MAX_TOOLS {
+            return Err(Diagnostic::error(
+                at_key("[[tools]]"),
+                format!("at most {MAX_TOOLS} tools fit in the tool table"),
+            ));
+        }
+        for (i, tool) in self.tools.iter().enumerate() {
+            if !(tool.diameter > 0.0 && tool.diameter.is_finite()) {
+                return Err(Diagnostic::error(
+                    at_key("diameter"),
+                    format!("tool {}: diameter must be greater than zero", tool.number),
+                ));
+            }
+            if self.tools[..i].iter().any(|t| t.number == tool.number) {
+                return Err(Diagnostic::error(
+                    at_key("number"),
+                    format!("tool {} is in the tool table twice", tool.number),
+                ));
+            }
+        }
+        Ok(self)
+    }
+
+    pub fn tool(&self, number: u32) -> Option<&Tool> {
+        self.tools.iter().find(|t| t.number == number)
+    }
+}
+
+fn span_of(text: &str, range: std::ops::Range<usize>) -> Span {
+    let start = range.start.min(text.len());
+    let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[..start].matches('\n').count() + 1;
+    let line_end = text[start..].find('\n').map_or(text.len(), |i| start + i);
+    let len = range.end.min(line_end).saturating_sub(start);
+    Span::new(line as u32, (start - line_start) as u32 + 1, len as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_file_means_inch_and_a_quarter_inch_endmill() {
+        let config = Config::from_toml("").unwrap();
+        assert_eq!(config, Config::default());
+        assert_eq!(config.units, Units::Inch);
+        assert_eq!(config.tool(1).unwrap().diameter, 0.25);
+    }
+
+    #[test]
+    fn a_full_file_parses() {
+        let text = r#"
+units = "mm"
+[offsets]
+G54 = [10.0, 20.0, -5.0]
+G59 = [1, 2, 3]
+
+[[tools]]
+number = 3
+kind = "center-drill"
+diameter = 6.0
+tip_angle = 90
+"#;
+        let config = Config::from_toml(text).unwrap();
+        assert_eq!(config.units, Units::Mm);
+        assert_eq!(config.offsets.entry(1), [10.0, 20.0, -5.0]);
+        assert_eq!(config.offsets.entry(2), [0.0; 3]);
+        assert_eq!(config.offsets.entry(6), [1.0, 2.0, 3.0]);
+        assert_eq!(config.tool(3).unwrap().kind, ToolKind::CenterDrill);
+        assert!(config.tool(1).is_none());
+    }
+
+    #[test]
+    fn errors_name_the_key_and_line() {
+        let err = Config::from_toml("units = \"mm\"\n[offsets]\nG60 = [1, 2, 3]\n").unwrap_err();
+        assert_eq!(err.span.line, 3);
+        assert!(err.message.contains("G60"), "{}", err.message);
+
+        let err = Config::from_toml("units = \"furlong\"\n").unwrap_err();
+        assert_eq!(err.span.line, 1);
+        assert!(
+            err.message.contains("\"inch\" or \"mm\""),
+            "{}",
+            err.message
+        );
+
+        let err = Config::from_toml("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = -1\n")
+            .unwrap_err();
+        assert_eq!(err.span.line, 4);
+    }
+}

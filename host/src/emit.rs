@@ -1,0 +1,169 @@
+//! Emit: statements -> G-code text. Any stage's statements can be written,
+//! so `--stage N` shows each pass's work; after the last pass only output
+//! codes remain. Numbers are fixed decimals, never exponents or `-0`.
+
+use std::fmt::Write;
+
+use crate::statement::{Axes, Kind, Offset, Side, Statement, Units, Value, WizardArg};
+
+pub struct Emitter {
+    decimals: usize,
+    line_numbers: bool,
+}
+
+/// The lines that open every translation: where it came from, and the modes
+/// the rest of the output assumes.
+pub fn preamble(source: &str, units: Units) -> String {
+    let source = source.replace(['(', ')'], "");
+    format!(
+        "(ger: translated from {source})\n{}\nG90\nG17\n",
+        units.code()
+    )
+}
+
+impl Emitter {
+    pub fn new(decimals: usize, line_numbers: bool) -> Emitter {
+        Emitter {
+            decimals,
+            line_numbers,
+        }
+    }
+
+    /// One statement as a line of G-code, without the newline.
+    pub fn line(&self, statement: &Statement) -> String {
+        let mut line = String::new();
+        self.write(&mut line, statement);
+        line
+    }
+
+    /// Appends one statement as a line of G-code, without the newline.
+    pub fn write(&self, out: &mut String, statement: &Statement) {
+        if self.line_numbers {
+            let _ = write!(out, "N{} ", statement.span.line);
+        }
+        match &statement.kind {
+            Kind::Motion(m) => {
+                if let Some(mode) = m.mode {
+                    out.push_str(mode.code());
+                }
+                self.axes(out, "XYZ", &m.target);
+                self.axes(out, "IJK", &m.centre);
+                self.value(out, 'R', m.radius);
+                self.value(out, 'F', m.feed);
+            }
+            Kind::Plane(plane) => out.push_str(plane.code()),
+            Kind::Units(units) => out.push_str(units.code()),
+            Kind::Distance(d) => out.push_str(if *d == crate::statement::Distance::Absolute {
+                "G90"
+            } else {
+                "G91"
+            }),
+            Kind::Polar(on) => out.push_str(if *on { "G16" } else { "G15" }),
+            Kind::Offset { code, axes } => {
+                match code {
+                    Offset::G52 => out.push_str("G52"),
+                    Offset::G92 => out.push_str("G92"),
+                    Offset::WorkOffset(entry) => {
+                        let _ = write!(out, "G{}", 53 + entry);
+                    }
+                }
+                self.axes(out, "XYZ", axes);
+            }
+            Kind::ToolLength { positive, z, h } => {
+                out.push_str(if *positive { "G43" } else { "G44" });
+                self.value(out, 'Z', *z);
+                let _ = write!(out, " H{h}");
+            }
+            Kind::ToolLengthCancel => out.push_str("G49"),
+            Kind::CutterComp { side, d } => {
+                out.push_str(if *side == Side::Left { "G41" } else { "G42" });
+                if let Some(d) = d {
+                    let _ = write!(out, " D{d}");
+                }
+            }
+            Kind::CutterCompCancel => out.push_str("G40"),
+            Kind::Machine { code, s, t } => {
+                out.push_str(code.code());
+                if let Some(s) = s {
+                    let _ = write!(out, " S{s}");
+                }
+                if let Some(t) = t {
+                    let _ = write!(out, " T{t}");
+                }
+            }
+            Kind::Program(n) => {
+                let _ = write!(out, "O{n}");
+            }
+            Kind::Call { program, repeat } => {
+                let _ = write!(out, "M98 P{program} L{repeat}");
+            }
+            Kind::Return => out.push_str("M99"),
+            Kind::End => out.push_str("M30"),
+            Kind::Wizard { name, args } => {
+                out.push_str(name);
+                for arg in args {
+                    match arg {
+                        WizardArg::Number(n) => {
+                            let _ = write!(out, " {n}");
+                        }
+                        WizardArg::Text(t) => {
+                            let _ = write!(out, " \"{t}\"");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn axes(&self, out: &mut String, letters: &str, axes: &Axes) {
+        for (axis, letter) in letters.chars().enumerate() {
+            self.value(out, letter, axes.get(axis));
+        }
+    }
+
+    fn value(&self, out: &mut String, letter: char, value: Option<Value>) {
+        if let Some(v) = value {
+            out.push(' ');
+            out.push(letter);
+            push_number(out, v.value, self.decimals);
+        }
+    }
+}
+
+/// Fixed decimals; a value that rounds to zero is written `0.000`, not `-0.000`.
+pub fn push_number(out: &mut String, value: f64, decimals: usize) {
+    let start = out.len();
+    let _ = write!(out, "{value:.decimals$}");
+    if out[start..].starts_with('-') && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.') {
+        out.remove(start);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn number(value: f64, decimals: usize) -> String {
+        let mut s = String::new();
+        push_number(&mut s, value, decimals);
+        s
+    }
+
+    #[test]
+    fn numbers_are_fixed_decimals_without_negative_zero_or_exponents() {
+        assert_eq!(number(1.0, 4), "1.0000");
+        assert_eq!(number(-0.00004, 4), "0.0000");
+        assert_eq!(number(-0.00005001, 4), "-0.0001");
+        assert_eq!(number(1e-20, 3), "0.000");
+        assert_eq!(number(1e12, 3), "1000000000000.000");
+        assert_eq!(number(-2.5, 3), "-2.500");
+    }
+
+    #[test]
+    fn preamble_names_the_source_and_modes() {
+        assert_eq!(
+            preamble("part (v2).ngc", Units::Mm),
+            "(ger: translated from part v2.ngc)\nG21\nG90\nG17\n"
+        );
+    }
+}

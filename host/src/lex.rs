@@ -1,0 +1,500 @@
+//! Lexer: program text -> tokens with spans.
+//!
+//! It reads one line at a time from any `BufRead`, so memory does not grow
+//! with the program. Lexing never fails: bad text becomes a diagnostic and the
+//! lexer carries on after it. Comments may span lines, so the only state kept
+//! between lines is "inside a comment since line L".
+
+use std::io::BufRead;
+
+use crate::diag::{Diagnostic, Span};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum TokenKind {
+    /// A letter and its number: `G01`, `X-1.25`, `x.5`. The letter is upper case.
+    Word {
+        letter: char,
+        value: f64,
+    },
+    /// Two or more letters in a row: a wizard call's name (`Pocket`).
+    Ident(String),
+    /// A wizard call's numeric argument.
+    Number(f64),
+    /// A wizard call's "double-quoted" argument, without the quotes.
+    Str(String),
+    Comment(String),
+    /// `;` or the end of a line.
+    End,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Token {
+    pub kind: TokenKind,
+    pub span: Span,
+}
+
+pub enum Lexed {
+    Token(Token),
+    Diagnostic(Diagnostic),
+}
+
+/// Lexes a whole program held in memory; handy for tests and small inputs.
+pub fn lex_str(text: &str) -> Lexer<&[u8]> {
+    Lexer::new(text.as_bytes())
+}
+
+pub struct Lexer<R> {
+    reader: R,
+    raw: Vec<u8>,
+    line_no: u32,
+    /// Tokens of the current line, handed out front to back.
+    pending: std::collections::VecDeque<Lexed>,
+    /// Set while a comment is open: where it started and its text so far.
+    open_comment: Option<(Span, String)>,
+    done: bool,
+}
+
+impl<R: BufRead> Lexer<R> {
+    pub fn new(reader: R) -> Lexer<R> {
+        Lexer {
+            reader,
+            raw: Vec::new(),
+            line_no: 0,
+            pending: Default::default(),
+            open_comment: None,
+            done: false,
+        }
+    }
+
+    fn read_line(&mut self) -> bool {
+        self.raw.clear();
+        match self.reader.read_until(b'\n', &mut self.raw) {
+            Ok(0) => false,
+            Ok(_) => {
+                self.line_no += 1;
+                while matches!(self.raw.last(), Some(b'\n' | b'\r')) {
+                    self.raw.pop();
+                }
+                true
+            }
+            Err(err) => {
+                let span = Span::new(self.line_no + 1, 1, 0);
+                self.push_diag(Diagnostic::error(
+                    span,
+                    format!("cannot read the program: {err}"),
+                ));
+                false
+            }
+        }
+    }
+
+    fn push_token(&mut self, kind: TokenKind, col: usize, len: usize) {
+        let span = Span::new(self.line_no, col as u32 + 1, len as u32);
+        self.pending.push_back(Lexed::Token(Token { kind, span }));
+    }
+
+    fn push_diag(&mut self, diagnostic: Diagnostic) {
+        self.pending.push_back(Lexed::Diagnostic(diagnostic));
+    }
+
+    fn span(&self, col: usize, len: usize) -> Span {
+        Span::new(self.line_no, col as u32 + 1, len as u32)
+    }
+
+    fn lex_line(&mut self) {
+        let line = std::mem::take(&mut self.raw);
+        let text = match std::str::from_utf8(&line) {
+            Ok(text) => text,
+            Err(err) => {
+                let col = err.valid_up_to();
+                let message = "this line is not valid UTF-8 text";
+                self.push_diag(Diagnostic::error(self.span(col, 1), message));
+                self.raw = line;
+                self.push_token(TokenKind::End, self.raw.len(), 0);
+                return;
+            }
+        };
+        let bytes = text.as_bytes();
+        let mut pos = 0;
+        let mut first_on_line = true;
+        // After a wizard name, the rest of the line is its arguments.
+        let mut in_wizard_args = false;
+
+        if let Some((start, mut body)) = self.open_comment.take() {
+            match text.find(')') {
+                Some(close) => {
+                    body.push('\n');
+                    body.push_str(&text[..close]);
+                    if let Some(nested) = text[..close].find('(') {
+                        self.nested_comment(nested);
+                    }
+                    self.pending.push_back(Lexed::Token(Token {
+                        kind: TokenKind::Comment(body),
+                        span: start,
+                    }));
+                    pos = close + 1;
+                }
+                None => {
+                    if let Some(nested) = text.find('(') {
+                        self.nested_comment(nested);
+                    }
+                    body.push('\n');
+                    body.push_str(text);
+                    self.open_comment = Some((start, body));
+                    self.raw = line;
+                    return;
+                }
+            }
+        }
+
+        while pos < bytes.len() {
+            let c = bytes[pos];
+            match c {
+                b' ' | b'\t' | b'\x0c' => pos += 1,
+                b';' => {
+                    self.push_token(TokenKind::End, pos, 1);
+                    in_wizard_args = false;
+                    pos += 1;
+                }
+                b'(' => {
+                    let rest = &text[pos + 1..];
+                    match rest.find(')') {
+                        Some(close) => {
+                            let body = &rest[..close];
+                            if let Some(nested) = body.find('(') {
+                                self.nested_comment(pos + 1 + nested);
+                            }
+                            self.push_token(TokenKind::Comment(body.to_string()), pos, close + 2);
+                            pos += close + 2;
+                        }
+                        None => {
+                            if let Some(nested) = rest.find('(') {
+                                self.nested_comment(pos + 1 + nested);
+                            }
+                            let start = self.span(pos, bytes.len() - pos);
+                            self.open_comment = Some((start, rest.to_string()));
+                            pos = bytes.len();
+                        }
+                    }
+                }
+                b')' => {
+                    let message = "`)` with no `(` before it";
+                    self.push_diag(Diagnostic::error(self.span(pos, 1), message));
+                    pos += 1;
+                }
+                b'%' if first_on_line && text[pos + 1..].trim().is_empty() => pos = bytes.len(),
+                b'"' if in_wizard_args => pos = self.string(text, pos),
+                _ if in_wizard_args => pos = self.wizard_number(text, pos),
+                _ if c.is_ascii_alphabetic() => {
+                    let name_len = bytes[pos..]
+                        .iter()
+                        .take_while(|b| b.is_ascii_alphanumeric() || **b == b'_')
+                        .count();
+                    let letters = bytes[pos..]
+                        .iter()
+                        .take_while(|b| b.is_ascii_alphabetic())
+                        .count();
+                    if letters >= 2 {
+                        let name = text[pos..pos + name_len].to_string();
+                        self.push_token(TokenKind::Ident(name), pos, name_len);
+                        in_wizard_args = true;
+                        pos += name_len;
+                    } else {
+                        pos = self.word(text, pos, first_on_line);
+                    }
+                }
+                _ => {
+                    let len = text[pos..].chars().next().map_or(1, char::len_utf8);
+                    let shown = &text[pos..pos + len];
+                    let diagnostic = Diagnostic::error(self.span(pos, len), format!("unexpected `{shown}`"))
+                        .with_help("a statement is made of words such as G01 or X1.5, comments in ( ), and `;`");
+                    self.push_diag(diagnostic);
+                    pos += len;
+                }
+            }
+            first_on_line = false;
+        }
+        // A comment left open swallows the line end: the statement goes on.
+        if self.open_comment.is_none() {
+            self.push_token(TokenKind::End, bytes.len(), 0);
+        }
+        self.raw = line;
+    }
+
+    fn nested_comment(&mut self, col: usize) {
+        let diagnostic = Diagnostic::error(
+            self.span(col, 1),
+            "comments cannot nest: `(` inside a comment",
+        )
+        .with_help("close the first comment with `)` before opening another");
+        self.push_diag(diagnostic);
+    }
+
+    /// A letter and its number. A leading `N` line number is accepted and dropped.
+    fn word(&mut self, text: &str, start: usize, first_on_line: bool) -> usize {
+        let letter = text.as_bytes()[start].to_ascii_uppercase() as char;
+        let number_len = number_len(&text[start + 1..]);
+        let end = start + 1 + number_len;
+        let value = text[start + 1..end]
+            .parse::<f64>()
+            .ok()
+            .filter(|_| number_len > 0);
+        let junk = text[end..]
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || *c == '.')
+            .count();
+        match value {
+            Some(_) if junk > 0 => {
+                let message = format!("malformed number in `{}`", &text[start..end + junk]);
+                self.push_diag(Diagnostic::error(
+                    self.span(start, end + junk - start),
+                    message,
+                ));
+                end + junk
+            }
+            Some(value) if letter == 'N' => {
+                if !first_on_line {
+                    let message = "an N line number may only start a line";
+                    let diagnostic = Diagnostic::error(self.span(start, end - start), message)
+                        .with_help("remove it, or move it to the start of the line");
+                    self.push_diag(diagnostic);
+                } else if value.fract() != 0.0 || value < 0.0 {
+                    let message = "an N line number must be a whole number";
+                    self.push_diag(Diagnostic::error(self.span(start, end - start), message));
+                }
+                end
+            }
+            Some(value) => {
+                self.push_token(TokenKind::Word { letter, value }, start, end - start);
+                end
+            }
+            None => {
+                let message = format!("`{letter}` must be followed by a number");
+                let diagnostic = Diagnostic::error(
+                    self.span(start, end - start + junk.max(1)),
+                    message,
+                )
+                .with_help(format!(
+                    "write it as one word, e.g. {letter}1.5 (no space between letter and number)"
+                ));
+                self.push_diag(diagnostic);
+                end + junk
+            }
+        }
+    }
+
+    fn wizard_number(&mut self, text: &str, start: usize) -> usize {
+        let len = text[start..]
+            .find(|c: char| c.is_whitespace() || c == ';' || c == '(' || c == '"')
+            .unwrap_or(text.len() - start);
+        let piece = &text[start..start + len];
+        match piece.parse::<f64>() {
+            Ok(value) if number_len(piece) == len && value.is_finite() => {
+                self.push_token(TokenKind::Number(value), start, len)
+            }
+            _ => {
+                let message =
+                    format!("wizard argument `{piece}` is neither a number nor a \"string\"");
+                let diagnostic = Diagnostic::error(self.span(start, len), message)
+                    .with_help("put text arguments in double quotes, e.g. Engrave \"HELLO\" 5");
+                self.push_diag(diagnostic);
+            }
+        }
+        start + len
+    }
+
+    fn string(&mut self, text: &str, start: usize) -> usize {
+        match text[start + 1..].find('"') {
+            Some(close) => {
+                let body = text[start + 1..start + 1 + close].to_string();
+                self.push_token(TokenKind::Str(body), start, close + 2);
+                start + close + 2
+            }
+            None => {
+                let message = "string is not closed: a wizard argument's closing `\"` is missing";
+                self.push_diag(Diagnostic::error(
+                    self.span(start, text.len() - start),
+                    message,
+                ));
+                text.len()
+            }
+        }
+    }
+}
+
+/// Length of the G-code number at the start of `s`: `[+-]digits[.digits]` or `[+-].digits`.
+fn number_len(s: &str) -> usize {
+    let bytes = s.as_bytes();
+    let mut i = usize::from(matches!(bytes.first(), Some(b'+' | b'-')));
+    let int_digits = bytes[i..].iter().take_while(|b| b.is_ascii_digit()).count();
+    i += int_digits;
+    let mut frac_digits = 0;
+    if bytes.get(i) == Some(&b'.') {
+        frac_digits = bytes[i + 1..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit())
+            .count();
+        i += 1 + frac_digits;
+    }
+    if int_digits + frac_digits == 0 {
+        0
+    } else {
+        i
+    }
+}
+
+impl<R: BufRead> Iterator for Lexer<R> {
+    type Item = Lexed;
+
+    fn next(&mut self) -> Option<Lexed> {
+        loop {
+            if let Some(item) = self.pending.pop_front() {
+                return Some(item);
+            }
+            if self.done {
+                return None;
+            }
+            if self.read_line() {
+                self.lex_line();
+            } else {
+                self.done = true;
+                if let Some((start, _)) = self.open_comment.take() {
+                    let diagnostic = Diagnostic::error(start, "comment is never closed")
+                        .with_help("add `)` where the comment should end");
+                    self.push_diag(diagnostic);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tokens(text: &str) -> Vec<String> {
+        lex_str(text)
+            .map(|item| match item {
+                Lexed::Token(t) => {
+                    let s = t.span;
+                    let kind = match t.kind {
+                        TokenKind::Word { letter, value } => format!("{letter}{value}"),
+                        TokenKind::Ident(name) => format!("ident {name}"),
+                        TokenKind::Number(v) => format!("num {v}"),
+                        TokenKind::Str(v) => format!("str {v:?}"),
+                        TokenKind::Comment(v) => format!("comment {v:?}"),
+                        TokenKind::End => "end".to_string(),
+                    };
+                    format!("{}:{}+{} {kind}", s.line, s.col, s.len)
+                }
+                Lexed::Diagnostic(d) => format!("{d}"),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn words_have_spans_and_upper_case_letters() {
+        assert_eq!(
+            tokens("G01 x-1.25 Y.5 z+2."),
+            [
+                "1:1+3 G1",
+                "1:5+6 X-1.25",
+                "1:12+3 Y0.5",
+                "1:16+4 Z2",
+                "1:20+0 end"
+            ]
+        );
+    }
+
+    #[test]
+    fn semicolon_and_newline_end_statements() {
+        assert_eq!(
+            tokens("X1;Y2\nZ3"),
+            [
+                "1:1+2 X1",
+                "1:3+1 end",
+                "1:4+2 Y2",
+                "1:6+0 end",
+                "2:1+2 Z3",
+                "2:3+0 end"
+            ]
+        );
+    }
+
+    #[test]
+    fn comments_may_span_lines_but_not_nest() {
+        assert_eq!(
+            tokens("G00 (one\ntwo) X1"),
+            [
+                "1:1+3 G0",
+                "1:5+4 comment \"one\\ntwo\"",
+                "2:6+2 X1",
+                "2:8+0 end"
+            ]
+        );
+        assert_eq!(
+            tokens("(a (b) c)")[0],
+            "1:4: error: comments cannot nest: `(` inside a comment"
+        );
+        assert_eq!(
+            tokens("G00 (open")[1],
+            "1:5: error: comment is never closed"
+        );
+    }
+
+    #[test]
+    fn line_numbers_and_tape_markers_are_dropped() {
+        assert_eq!(
+            tokens("%\nN10 G01 X1\n%"),
+            [
+                "1:2+0 end",
+                "2:5+3 G1",
+                "2:9+2 X1",
+                "2:11+0 end",
+                "3:2+0 end"
+            ]
+        );
+        assert_eq!(
+            tokens("G01 N10")[1],
+            "1:5: error: an N line number may only start a line"
+        );
+    }
+
+    #[test]
+    fn wizard_calls_take_numbers_and_strings_to_the_end_of_the_line() {
+        assert_eq!(
+            tokens("Engrave \"HI there\" -5 .25 (c)\nX1"),
+            [
+                "1:1+7 ident Engrave",
+                "1:9+10 str \"HI there\"",
+                "1:20+2 num -5",
+                "1:23+3 num 0.25",
+                "1:27+3 comment \"c\"",
+                "1:30+0 end",
+                "2:1+2 X1",
+                "2:3+0 end"
+            ]
+        );
+        assert_eq!(
+            tokens("Pocket 7 X1")[2],
+            "1:10: error: wizard argument `X1` is neither a number nor a \"string\""
+        );
+    }
+
+    #[test]
+    fn malformed_numbers_are_diagnosed() {
+        assert_eq!(
+            tokens("X1.2.3")[0],
+            "1:1: error: malformed number in `X1.2.3`"
+        );
+        assert_eq!(
+            tokens("X - 1")[0],
+            "1:1: error: `X` must be followed by a number"
+        );
+        assert_eq!(
+            tokens("G01 X#1")[1],
+            "1:5: error: `X` must be followed by a number"
+        );
+        assert_eq!(tokens("G01 @")[1], "1:5: error: unexpected `@`");
+    }
+}

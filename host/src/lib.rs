@@ -1,0 +1,15 @@
+//! ger: a G-code emulatoR, verifiER and transpilER for 3-axis mills and routers.
+//!
+//! The module tree is the pipeline (see ARCHITECTURE.md at the repository root):
+//! [`lex`] -> [`parse`] -> [`passes`] 00..05 -> [`emit`], with [`cli`] the only
+//! module that touches argv, files or terminals.
+
+pub mod cli;
+pub mod config;
+pub mod diag;
+pub mod emit;
+pub mod geom;
+pub mod lex;
+pub mod parse;
+pub mod passes;
+pub mod statement;

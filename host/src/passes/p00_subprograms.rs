@@ -1,0 +1,422 @@
+//! Pass 00: subprograms. `M98 Pw Lw` is replaced by the body of `Ow` (up to its
+//! `M99`), L times, so the output is the program in the order it runs.
+//!
+//! Subprograms usually follow M30, after the calls to them. Bodies met in the
+//! stream are kept as they go by; a call to one not seen yet asks the
+//! [`Library`] to scan the whole program once for definitions. A program with
+//! no forward calls is read once.
+//!
+//! This is also where the stream becomes an execution trace, so it is where
+//! a bare move (`X1 Y2`) gets its motion mode written out: later passes see
+//! every move with its G00/G01/G02/G03.
+
+use std::collections::{HashMap, HashSet};
+use std::io::BufRead;
+use std::sync::Arc;
+
+use crate::diag::{Diagnostic, Origin, Span};
+use crate::lex::Lexer;
+use crate::parse::{parse, Event};
+use crate::statement::{Kind, MotionMode, Statement};
+
+/// How deep subprogram calls may nest before ger calls it runaway recursion.
+pub const MAX_CALL_DEPTH: usize = 32;
+
+type Body = Arc<Vec<Statement>>;
+
+/// The subprograms a program can call.
+pub struct Library<'a> {
+    bodies: HashMap<u32, Body>,
+    scan: Option<Box<dyn FnOnce() -> HashMap<u32, Body> + 'a>>,
+}
+
+impl<'a> Library<'a> {
+    /// Only the subprograms defined before they are called.
+    pub fn empty() -> Library<'a> {
+        Library {
+            bodies: HashMap::new(),
+            scan: None,
+        }
+    }
+
+    /// `scan` is run the first time a call names a program not seen yet.
+    pub fn scanning(scan: impl FnOnce() -> HashMap<u32, Body> + 'a) -> Library<'a> {
+        Library {
+            bodies: HashMap::new(),
+            scan: Some(Box::new(scan)),
+        }
+    }
+
+    /// Reads a whole program and keeps the body of every subprogram in it.
+    pub fn scan(program: impl BufRead) -> HashMap<u32, Body> {
+        let mut bodies = HashMap::new();
+        let mut current: Option<(u32, Vec<Statement>)> = None;
+        let mut first = true;
+        for event in parse(Lexer::new(program)) {
+            let Event::Statement(statement) = event else {
+                continue;
+            };
+            match (&statement.kind, &mut current) {
+                (Kind::Program(_), _) if first => {}
+                (Kind::Program(n), None) => current = Some((*n, Vec::new())),
+                (Kind::Return, Some(_)) => {
+                    let (n, body) = current.take().expect("matched Some");
+                    bodies.entry(n).or_insert_with(|| Arc::new(body));
+                }
+                (_, Some((_, body))) => body.push(statement),
+                (_, None) => {}
+            }
+            first = false;
+        }
+        bodies
+    }
+
+    fn find(&mut self, program: u32) -> Option<Body> {
+        if !self.bodies.contains_key(&program) {
+            if let Some(scan) = self.scan.take() {
+                for (n, body) in scan() {
+                    self.bodies.entry(n).or_insert(body);
+                }
+            }
+        }
+        self.bodies.get(&program).cloned()
+    }
+}
+
+struct Frame {
+    body: Body,
+    next: usize,
+    repeats_left: u32,
+    origin: Arc<Origin>,
+}
+
+pub struct Subprograms<'a, I> {
+    upstream: I,
+    library: Library<'a>,
+    stack: Vec<Frame>,
+    /// The subprogram being defined in the main stream, and its body so far.
+    defining: Option<(u32, Span, Vec<Statement>)>,
+    /// Programs defined in the main stream so far, to catch a second definition.
+    defined: HashSet<u32>,
+    seen_first_statement: bool,
+    ended: bool,
+    warned_after_end: bool,
+    motion: MotionMode,
+}
+
+impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
+    pub fn new(upstream: I, library: Library<'a>) -> Subprograms<'a, I> {
+        Subprograms {
+            upstream,
+            library,
+            stack: Vec::new(),
+            defining: None,
+            defined: HashSet::new(),
+            seen_first_statement: false,
+            ended: false,
+            warned_after_end: false,
+            motion: MotionMode::Rapid,
+        }
+    }
+
+    /// The next statement of the innermost running subprogram, if any.
+    fn next_from_stack(&mut self) -> Option<Statement> {
+        while let Some(frame) = self.stack.last_mut() {
+            if let Some(statement) = frame.body.get(frame.next) {
+                frame.next += 1;
+                let mut statement = statement.clone();
+                statement.origin = Some(frame.origin.clone());
+                return Some(statement);
+            }
+            if frame.repeats_left > 1 {
+                frame.repeats_left -= 1;
+                frame.next = 0;
+            } else {
+                self.stack.pop();
+            }
+        }
+        None
+    }
+
+    /// Handles a statement from the main program text. Returns what to emit.
+    fn main_statement(&mut self, statement: Statement) -> Option<Event> {
+        let first = !std::mem::replace(&mut self.seen_first_statement, true);
+        if let Some((number, start, body)) = &mut self.defining {
+            match statement.kind {
+                Kind::Return => {
+                    let (number, _, body) = self.defining.take().expect("matched Some");
+                    self.library
+                        .bodies
+                        .entry(number)
+                        .or_insert_with(|| Arc::new(body));
+                }
+                Kind::Program(inner) => {
+                    let message = format!("O{inner} starts inside O{number}, which has no M99 yet");
+                    let help = format!(
+                        "end O{number} (begun at line {}) with M99 before starting another program",
+                        start.line
+                    );
+                    return Some(error(
+                        &statement,
+                        Diagnostic::error(statement.span, message).with_help(help),
+                    ));
+                }
+                _ => body.push(statement),
+            }
+            return None;
+        }
+        match statement.kind {
+            Kind::Program(_) if first => None,
+            Kind::Program(number) => {
+                self.defining = Some((number, statement.span, Vec::new()));
+                if !self.defined.insert(number) {
+                    let diagnostic =
+                        Diagnostic::error(statement.span, format!("O{number} is defined twice"))
+                            .with_help(
+                            "give each subprogram its own number; calls run the first definition",
+                        );
+                    return Some(error(&statement, diagnostic));
+                }
+                None
+            }
+            _ if self.ended => {
+                if std::mem::replace(&mut self.warned_after_end, true) {
+                    return None;
+                }
+                let diagnostic = Diagnostic::warning(
+                    statement.span,
+                    "this statement follows M30 and never runs",
+                )
+                .with_help("after M30, only subprograms (O... to M99) belong in the file");
+                Some(Event::Diagnostic(diagnostic))
+            }
+            Kind::Return => {
+                let diagnostic = Diagnostic::error(statement.span, "M99 outside a subprogram")
+                    .with_help("M99 ends a subprogram that starts with O<number>; the main program ends with M30");
+                Some(Event::Diagnostic(diagnostic))
+            }
+            Kind::End => {
+                self.ended = true;
+                Some(Event::Statement(statement))
+            }
+            _ => self.run(statement),
+        }
+    }
+
+    /// Runs a statement in execution order: calls push a frame, moves get
+    /// their motion mode.
+    fn run(&mut self, mut statement: Statement) -> Option<Event> {
+        match &mut statement.kind {
+            Kind::Call { program, repeat } => {
+                let (program, repeat) = (*program, *repeat);
+                if self.stack.len() >= MAX_CALL_DEPTH {
+                    let message = format!("subprogram calls nest deeper than {MAX_CALL_DEPTH}: M98 P{program} recurses without end");
+                    let diagnostic = Diagnostic::error(statement.span, message).with_help(
+                        "a subprogram that calls itself, directly or through others, never returns",
+                    );
+                    // Unwind: the rest of this recursion would only repeat the error.
+                    self.stack.clear();
+                    return Some(error(&statement, diagnostic));
+                }
+                let Some(body) = self.library.find(program) else {
+                    let diagnostic = Diagnostic::error(
+                        statement.span,
+                        format!("M98 calls O{program}, which is not in the program"),
+                    )
+                    .with_help(format!("define it after M30: O{program} ... M99"));
+                    return Some(error(&statement, diagnostic));
+                };
+                if repeat > 0 {
+                    let origin = Arc::new(Origin {
+                        what: format!("O{program}"),
+                        call: statement.span,
+                        parent: statement.origin.clone(),
+                    });
+                    self.stack.push(Frame {
+                        body,
+                        next: 0,
+                        repeats_left: repeat,
+                        origin,
+                    });
+                }
+                None
+            }
+            Kind::End => {
+                let diagnostic = Diagnostic::error(statement.span, "M30 inside a subprogram")
+                    .with_help("a subprogram returns with M99; M30 ends the main program");
+                Some(error(&statement, diagnostic))
+            }
+            Kind::Wizard { name, .. } => {
+                let diagnostic = Diagnostic::error(
+                    statement.span,
+                    format!("no wizard named `{name}` to run this call"),
+                )
+                .with_help(wizard_help(name));
+                Some(error(&statement, diagnostic))
+            }
+            Kind::Motion(motion) => {
+                match motion.mode {
+                    Some(mode) => self.motion = mode,
+                    None => motion.mode = Some(self.motion),
+                }
+                Some(Event::Statement(statement))
+            }
+            _ => Some(Event::Statement(statement)),
+        }
+    }
+}
+
+fn error(statement: &Statement, diagnostic: Diagnostic) -> Event {
+    Event::Diagnostic(diagnostic.with_origin(statement.origin.clone()))
+}
+
+/// `GO1` is an easy typo for `G01`; say so rather than only "no wizard".
+fn wizard_help(name: &str) -> String {
+    let upper = name.to_ascii_uppercase();
+    let bytes = upper.as_bytes();
+    if bytes.len() >= 2
+        && matches!(bytes[0], b'G' | b'M')
+        && bytes[1] == b'O'
+        && bytes[2..].iter().all(u8::is_ascii_digit)
+    {
+        return format!(
+            "did you mean {}0{}? (the letter O was typed for the digit zero)",
+            &upper[..1],
+            &upper[2..]
+        );
+    }
+    "a word of two or more letters calls a wizard; ger looks for it in the wizards directory"
+        .to_string()
+}
+
+impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
+    type Item = Event;
+
+    fn next(&mut self) -> Option<Event> {
+        loop {
+            let event = match self.next_from_stack() {
+                Some(statement) => self.run(statement),
+                None => match self.upstream.next() {
+                    Some(Event::Statement(statement)) => self.main_statement(statement),
+                    Some(diagnostic) => Some(diagnostic),
+                    None => {
+                        let (number, span, _) = self.defining.take()?;
+                        let diagnostic =
+                            Diagnostic::error(span, format!("O{number} has no M99 to end it"))
+                                .with_help("a subprogram runs from O<number> to M99");
+                        Some(Event::Diagnostic(diagnostic))
+                    }
+                },
+            };
+            if event.is_some() {
+                return event;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::passes::testing::run;
+
+    #[test]
+    fn calls_are_replaced_by_the_body_l_times() {
+        let program = "O1\nG01 X1 F10\nM98 P100 L2\nM30\nO100\nG91\nX1\nM99\n";
+        assert_eq!(
+            run(program, 0),
+            [
+                "G01 X1.0000 F10.0000",
+                "G91",
+                "G01 X1.0000",
+                "G91",
+                "G01 X1.0000",
+                "M30"
+            ]
+        );
+    }
+
+    #[test]
+    fn nested_calls_and_definitions_before_use() {
+        // The first O names the main program; later ones start subprograms.
+        let program = "O1\nO5\nY2\nM98 P6\nM99\nO6\nZ3\nM99\nM98 P5 L1\nM30\n";
+        assert_eq!(run(program, 0), ["G00 Y2.0000", "G00 Z3.0000", "M30"]);
+    }
+
+    #[test]
+    fn bare_moves_take_the_mode_in_force_where_they_run() {
+        let program = "G01 X1 F5\nM98 P2\nG00 X0\nM98 P2\nM30\nO2\nY1\nM99\n";
+        assert_eq!(
+            run(program, 0),
+            [
+                "G01 X1.0000 F5.0000",
+                "G01 Y1.0000",
+                "G00 X0.0000",
+                "G00 Y1.0000",
+                "M30"
+            ]
+        );
+    }
+
+    #[test]
+    fn unknown_programs_and_recursion_are_errors_not_hangs() {
+        assert_eq!(
+            run("M98 P9\nM30", 0),
+            [
+                "1:1: error: M98 calls O9, which is not in the program",
+                "M30"
+            ]
+        );
+        let got = run("M98 P1\nM30\nO1\nX1\nM98 P1\nM99", 0);
+        assert_eq!(
+            got.iter()
+                .filter(|l| l.contains("nest deeper than 32"))
+                .count(),
+            1,
+            "{got:?}"
+        );
+        assert_eq!(
+            got.iter().filter(|l| l.as_str() == "G00 X1.0000").count(),
+            32
+        );
+    }
+
+    #[test]
+    fn a_second_definition_is_an_error() {
+        let got = run("M98 P1\nM30\nO1\nX1\nM99\nO1\nX2\nM99", 0);
+        assert_eq!(
+            got,
+            ["G00 X1.0000", "M30", "6:1: error: O1 is defined twice"]
+        );
+    }
+
+    #[test]
+    fn misplaced_m99_m30_and_trailing_code() {
+        assert_eq!(
+            run("X1\nM99", 0),
+            ["G00 X1.0000", "2:1: error: M99 outside a subprogram"]
+        );
+        assert_eq!(
+            run("M30\nX1\nY1", 0),
+            [
+                "M30",
+                "2:1: warning: this statement follows M30 and never runs"
+            ]
+        );
+        assert_eq!(
+            run("M98 P1\nM30\nO1\nM30\nM99", 0)[0],
+            "4:1: error: M30 inside a subprogram"
+        );
+        assert_eq!(
+            run("M30\nO1\nX1", 0)[1],
+            "2:1: error: O1 has no M99 to end it"
+        );
+    }
+
+    #[test]
+    fn wizard_calls_without_a_wizard_are_errors() {
+        assert_eq!(
+            run("Pocket 1 2 3", 0),
+            ["1:1: error: no wizard named `Pocket` to run this call"]
+        );
+    }
+}

@@ -1,0 +1,84 @@
+//! Pass 01: units. G20/G21 say what unit the program is written in; this pass
+//! converts every length (X Y Z, I J K, R, F, G52/G92 values, G43/G44 Z) to
+//! the machine's unit and drops the G20/G21 statements. Until the program says
+//! otherwise it is taken to be in the machine's unit.
+
+use super::{Out, Pass};
+use crate::statement::{self, Kind, Statement, Value};
+
+pub struct Units {
+    machine: statement::Units,
+    program: statement::Units,
+}
+
+impl Units {
+    pub fn new(machine: statement::Units) -> Units {
+        Units {
+            machine,
+            program: machine,
+        }
+    }
+}
+
+impl Pass for Units {
+    fn statement(&mut self, mut statement: Statement, out: &mut Out) {
+        let factor = self.program.factor_to(self.machine);
+        let scale = |v: &mut Option<Value>| {
+            if let Some(v) = v {
+                v.value *= factor;
+            }
+        };
+        match &mut statement.kind {
+            Kind::Units(units) => {
+                self.program = *units;
+                return;
+            }
+            Kind::Motion(m) if factor != 1.0 => {
+                m.target = m.target.map(|_, v| v * factor);
+                m.centre = m.centre.map(|_, v| v * factor);
+                scale(&mut m.radius);
+                scale(&mut m.feed);
+            }
+            Kind::Offset { axes, .. } => *axes = axes.map(|_, v| v * factor),
+            Kind::ToolLength { z, .. } => scale(z),
+            _ => {}
+        }
+        out.push(statement);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::Config;
+    use crate::passes::testing::{run, run_with};
+    use crate::statement;
+
+    #[test]
+    fn millimetres_become_inches_on_an_inch_machine() {
+        let got = run(
+            "G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG43 Z5.08 H1\nG20\nG01 X1",
+            1,
+        );
+        assert_eq!(
+            got,
+            [
+                "G01 X1.0000 Y-0.5000 F10.0000",
+                "G02 X2.0000 R0.5000",
+                "G52 X0.1000",
+                "G43 Z0.2000 H1",
+                "G01 X1.0000",
+            ]
+        );
+    }
+
+    #[test]
+    fn inches_become_millimetres_on_a_mm_machine() {
+        let config = Config {
+            units: statement::Units::Mm,
+            ..Config::default()
+        };
+        let got = run_with("G20\nG03 X1 Y1 I1 J0.5 F10", &config, 1);
+        assert_eq!(got, ["G03 X25.400 Y25.400 I25.400 J12.700 F254.000"]);
+        assert_eq!(run_with("G01 X1 F10", &config, 1), ["G01 X1.000 F10.000"]);
+    }
+}

@@ -1,0 +1,206 @@
+//! Pass 02: work offsets. G52, G54..G59 and G92 move program zero (the PRZ);
+//! this pass adds the current PRZ to every absolute coordinate, so the output
+//! is relative to machine zero, and drops the offset statements.
+//!
+//! G92 needs the tool's current position, so the pass follows it through
+//! absolute, incremental and polar moves. None of these codes may be used in
+//! polar (G16), incremental (G91) or cutter comp (G41/G42) mode.
+
+use super::{Out, Pass};
+use crate::config::WorkOffsets;
+use crate::diag::Diagnostic;
+use crate::geom::polar_step;
+use crate::statement::{Distance, Kind, Offset, Plane, Statement};
+
+pub struct Offsets {
+    table: WorkOffsets,
+    /// Machine coordinates of program zero.
+    prz: [f64; 3],
+    /// Machine coordinates of the tool.
+    position: [f64; 3],
+    distance: Distance,
+    plane: Plane,
+    polar: bool,
+    comp: bool,
+}
+
+impl Offsets {
+    pub fn new(table: WorkOffsets) -> Offsets {
+        Offsets {
+            table,
+            prz: [0.0; 3],
+            position: [0.0; 3],
+            distance: Distance::Absolute,
+            plane: Plane::XY,
+            polar: false,
+            comp: false,
+        }
+    }
+
+    fn mode_forbidding_offsets(&self) -> Option<(&'static str, &'static str)> {
+        if self.polar {
+            Some((
+                "polar coordinates (G16) are on",
+                "turn them off with G15 first",
+            ))
+        } else if self.distance == Distance::Incremental {
+            Some((
+                "incremental mode (G91) is on",
+                "switch to absolute mode with G90 first",
+            ))
+        } else if self.comp {
+            Some((
+                "cutter radius compensation (G41/G42) is on",
+                "cancel it with G40 first",
+            ))
+        } else {
+            None
+        }
+    }
+}
+
+impl Pass for Offsets {
+    fn statement(&mut self, mut statement: Statement, out: &mut Out) {
+        match &mut statement.kind {
+            Kind::Distance(distance) => self.distance = *distance,
+            Kind::Plane(plane) => self.plane = *plane,
+            Kind::Polar(on) => self.polar = *on,
+            Kind::CutterComp { .. } => self.comp = true,
+            Kind::CutterCompCancel => self.comp = false,
+            Kind::Offset { code, axes } => {
+                if let Some((why, help)) = self.mode_forbidding_offsets() {
+                    let message = format!("cannot change program zero while {why}");
+                    out.error(
+                        &statement,
+                        Diagnostic::error(statement.span, message).with_help(help),
+                    );
+                    return;
+                }
+                let given = |axis: usize| axes.get(axis).map_or(0.0, |v| v.value);
+                self.prz = match code {
+                    Offset::G52 => [given(0), given(1), given(2)],
+                    Offset::WorkOffset(entry) => self.table.entry(*entry),
+                    Offset::G92 => std::array::from_fn(|axis| self.position[axis] - given(axis)),
+                };
+                return;
+            }
+            Kind::Motion(motion) => {
+                if self.distance == Distance::Absolute {
+                    motion.target = motion.target.map(|axis, v| v + self.prz[axis]);
+                    for axis in 0..3 {
+                        if let Some(v) = motion.target.get(axis) {
+                            self.position[axis] = v.value;
+                        }
+                    }
+                } else if self.polar {
+                    let (first, second, normal) = self.plane.axes();
+                    if let (Some(r), Some(angle)) =
+                        (motion.target.get(first), motion.target.get(second))
+                    {
+                        let (a, b) = polar_step(r.value, angle.value);
+                        self.position[first] += a;
+                        self.position[second] += b;
+                    }
+                    if let Some(v) = motion.target.get(normal) {
+                        self.position[normal] += v.value;
+                    }
+                } else {
+                    for axis in 0..3 {
+                        if let Some(v) = motion.target.get(axis) {
+                            self.position[axis] += v.value;
+                        }
+                    }
+                }
+            }
+            Kind::ToolLength { z: Some(z), .. } => {
+                if self.distance == Distance::Absolute {
+                    z.value += self.prz[2];
+                    self.position[2] = z.value;
+                } else {
+                    self.position[2] += z.value;
+                }
+            }
+            _ => {}
+        }
+        out.push(statement);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::{Config, WorkOffsets};
+    use crate::passes::testing::{run, run_with};
+
+    #[test]
+    fn g52_moves_program_zero_and_omitted_axes_are_zero() {
+        let got = run(
+            "G52 X2 Y-4 Z1\nG00 X1 Y1 Z0\nG52 X1\nG00 X0 Y0 Z0\nG52\nX0",
+            2,
+        );
+        assert_eq!(
+            got,
+            [
+                "G00 X3.0000 Y-3.0000 Z1.0000",
+                "G00 X1.0000 Y0.0000 Z0.0000",
+                "G00 X0.0000"
+            ]
+        );
+    }
+
+    #[test]
+    fn g54_to_g59_use_the_table() {
+        let offsets = WorkOffsets {
+            g54: Some([1.0, 2.0, 3.0]),
+            g59: Some([-1.0, 0.0, 0.5]),
+            ..Default::default()
+        };
+        let config = Config {
+            offsets,
+            ..Config::default()
+        };
+        let got = run_with("G54\nG00 X1 Y1 Z1\nG59\nX1\nG55\nX1", &config, 2);
+        assert_eq!(
+            got,
+            ["G00 X2.0000 Y3.0000 Z4.0000", "G00 X0.0000", "G00 X1.0000"]
+        );
+    }
+
+    #[test]
+    fn g92_makes_the_current_position_read_as_given() {
+        // The tool is at (2, 3, 0); G92 X0 Y0 makes that program zero.
+        let got = run(
+            "G00 X2 Y3\nG92 X0 Y0\nG00 X1 Y1\nG91\nX1\nG90\nG92 X10\nX10",
+            2,
+        );
+        assert_eq!(
+            got,
+            [
+                "G00 X2.0000 Y3.0000",
+                "G00 X3.0000 Y4.0000",
+                "G91",
+                "G00 X1.0000",
+                "G90",
+                "G00 X4.0000"
+            ]
+        );
+    }
+
+    #[test]
+    fn g92_follows_polar_moves() {
+        // Polar move of 2 at 90 degrees from (0,0): the tool is at (0, 2).
+        let got = run("G91\nG16\nG00 X2 Y90\nG15\nG90\nG92 X0 Y0\nG00 X1 Y0", 2);
+        assert_eq!(got.last().unwrap(), "G00 X1.0000 Y2.0000");
+    }
+
+    #[test]
+    fn offsets_are_refused_in_incremental_polar_and_comp_modes() {
+        assert_eq!(
+            run("G91\nG52 X1", 2)[1],
+            "2:1: error: cannot change program zero while incremental mode (G91) is on"
+        );
+        assert_eq!(
+            run("G16\nG54", 2)[1],
+            "2:1: error: cannot change program zero while polar coordinates (G16) are on"
+        );
+    }
+}

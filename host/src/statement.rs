@@ -1,0 +1,327 @@
+//! Statements: what the parser produces and every pass consumes and produces.
+//!
+//! One type serves the whole pipeline; each pass removes some kinds (pass 01
+//! removes `Units`, pass 04 removes `Distance`, ...) so that after the last
+//! pass only what `emit` calls output codes remain.
+
+use std::sync::Arc;
+
+use crate::diag::{Origin, Span};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Statement {
+    pub kind: Kind,
+    /// The text the statement came from: its code, or its first word.
+    pub span: Span,
+    /// Set when the statement runs inside a subprogram (or wizard) call.
+    pub origin: Option<Arc<Origin>>,
+}
+
+impl Statement {
+    pub fn new(kind: Kind, span: Span) -> Statement {
+        Statement {
+            kind,
+            span,
+            origin: None,
+        }
+    }
+
+    /// The same origin, a new kind: for passes that rewrite a statement.
+    pub fn with_kind(&self, kind: Kind) -> Statement {
+        Statement {
+            kind,
+            span: self.span,
+            origin: self.origin.clone(),
+        }
+    }
+}
+
+/// A number as written, with where it was written (for pointed diagnostics).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Value {
+    pub value: f64,
+    pub span: Span,
+}
+
+/// X, Y and Z words; `None` where the word was not written.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Axes {
+    pub x: Option<Value>,
+    pub y: Option<Value>,
+    pub z: Option<Value>,
+}
+
+impl Axes {
+    pub fn is_empty(&self) -> bool {
+        self.x.is_none() && self.y.is_none() && self.z.is_none()
+    }
+
+    pub fn get(&self, axis: usize) -> Option<Value> {
+        [self.x, self.y, self.z][axis]
+    }
+
+    pub fn slot(&mut self, axis: usize) -> &mut Option<Value> {
+        match axis {
+            0 => &mut self.x,
+            1 => &mut self.y,
+            _ => &mut self.z,
+        }
+    }
+
+    /// Applies `f` to each written value, keeping its span.
+    pub fn map(mut self, mut f: impl FnMut(usize, f64) -> f64) -> Axes {
+        for axis in 0..3 {
+            if let Some(v) = self.slot(axis) {
+                v.value = f(axis, v.value);
+            }
+        }
+        self
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionMode {
+    Rapid,
+    Linear,
+    ArcCw,
+    ArcCcw,
+}
+
+impl MotionMode {
+    pub fn is_arc(self) -> bool {
+        matches!(self, MotionMode::ArcCw | MotionMode::ArcCcw)
+    }
+
+    pub fn code(self) -> &'static str {
+        match self {
+            MotionMode::Rapid => "G00",
+            MotionMode::Linear => "G01",
+            MotionMode::ArcCw => "G02",
+            MotionMode::ArcCcw => "G03",
+        }
+    }
+}
+
+/// A move: G00/G01/G02/G03 with its words, or bare axis words, which move in
+/// the current motion mode (`mode` is `None` until pass 00 fills it in).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Motion {
+    pub mode: Option<MotionMode>,
+    pub target: Axes,
+    /// I, J, K: an arc's centre, relative to its start.
+    pub centre: Axes,
+    pub radius: Option<Value>,
+    pub feed: Option<Value>,
+}
+
+impl Motion {
+    /// A statement with only F in it sets the feed and moves nothing.
+    pub fn moves(&self) -> bool {
+        !self.target.is_empty() || !self.centre.is_empty() || self.radius.is_some()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Plane {
+    XY,
+    ZX,
+    YZ,
+}
+
+impl Plane {
+    /// The plane's two axes in the order angles and arcs turn (first to
+    /// second is counter-clockwise seen from the positive third axis), then
+    /// the axis normal to it.
+    pub fn axes(self) -> (usize, usize, usize) {
+        match self {
+            Plane::XY => (0, 1, 2),
+            Plane::ZX => (2, 0, 1),
+            Plane::YZ => (1, 2, 0),
+        }
+    }
+
+    pub fn code(self) -> &'static str {
+        match self {
+            Plane::XY => "G17",
+            Plane::ZX => "G18",
+            Plane::YZ => "G19",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    Inch,
+    Mm,
+}
+
+impl Units {
+    pub fn code(self) -> &'static str {
+        match self {
+            Units::Inch => "G20",
+            Units::Mm => "G21",
+        }
+    }
+
+    /// How many of `to` make one of `self`.
+    pub fn factor_to(self, to: Units) -> f64 {
+        match (self, to) {
+            (Units::Inch, Units::Mm) => 25.4,
+            (Units::Mm, Units::Inch) => 1.0 / 25.4,
+            _ => 1.0,
+        }
+    }
+
+    /// Output precision: 4 decimals in inches, 3 in millimetres.
+    pub fn decimals(self) -> usize {
+        match self {
+            Units::Inch => 4,
+            Units::Mm => 3,
+        }
+    }
+
+    /// How far an arc's end may be off its circle, as in the manual.
+    pub fn arc_tolerance(self) -> f64 {
+        match self {
+            Units::Inch => 0.0005,
+            Units::Mm => 0.01,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distance {
+    Absolute,
+    Incremental,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Offset {
+    /// G52: program zero at the given machine coordinates.
+    G52,
+    /// G54..G59: entry 1..6 of the work-offsets table.
+    WorkOffset(u8),
+    /// G92: the current position reads as the given coordinates.
+    G92,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+/// The M codes that pass through translation unchanged (manual §3.1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Machine {
+    Pause,           // M00
+    OptionalPause,   // M01
+    SpindleCw,       // M03
+    SpindleCcw,      // M04
+    SpindleOff,      // M05
+    ToolChange,      // M06
+    Mist,            // M07
+    Flood,           // M08
+    CoolantOff,      // M09
+    SpindleHigh,     // M40
+    SpindleLow,      // M41
+    EnableOverride,  // M48
+    DisableOverride, // M49
+}
+
+impl Machine {
+    pub fn from_number(n: u32) -> Option<Machine> {
+        use Machine::*;
+        Some(match n {
+            0 => Pause,
+            1 => OptionalPause,
+            3 => SpindleCw,
+            4 => SpindleCcw,
+            5 => SpindleOff,
+            6 => ToolChange,
+            7 => Mist,
+            8 => Flood,
+            9 => CoolantOff,
+            40 => SpindleHigh,
+            41 => SpindleLow,
+            48 => EnableOverride,
+            49 => DisableOverride,
+            _ => return None,
+        })
+    }
+
+    pub fn code(self) -> &'static str {
+        use Machine::*;
+        match self {
+            Pause => "M00",
+            OptionalPause => "M01",
+            SpindleCw => "M03",
+            SpindleCcw => "M04",
+            SpindleOff => "M05",
+            ToolChange => "M06",
+            Mist => "M07",
+            Flood => "M08",
+            CoolantOff => "M09",
+            SpindleHigh => "M40",
+            SpindleLow => "M41",
+            EnableOverride => "M48",
+            DisableOverride => "M49",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum WizardArg {
+    Number(f64),
+    Text(String),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Kind {
+    Motion(Motion),
+    Plane(Plane),
+    Units(Units),
+    Distance(Distance),
+    /// G16 (true) / G15 (false).
+    Polar(bool),
+    Offset {
+        code: Offset,
+        axes: Axes,
+    },
+    /// G43 (positive) / G44 with an optional Z to move to and the H register.
+    ToolLength {
+        positive: bool,
+        z: Option<Value>,
+        h: u32,
+    },
+    /// G49.
+    ToolLengthCancel,
+    /// G41/G42 with an optional D (tool table entry).
+    CutterComp {
+        side: Side,
+        d: Option<u32>,
+    },
+    /// G40.
+    CutterCompCancel,
+    /// M00..M49 pass-through codes; M03/M04 may carry S, M06 may carry T.
+    Machine {
+        code: Machine,
+        s: Option<f64>,
+        t: Option<u32>,
+    },
+    /// `Ow`: names the main program, or starts a subprogram.
+    Program(u32),
+    /// M98 Pw Lw.
+    Call {
+        program: u32,
+        repeat: u32,
+    },
+    /// M99.
+    Return,
+    /// M30.
+    End,
+    Wizard {
+        name: String,
+        args: Vec<WizardArg>,
+    },
+}
