@@ -69,11 +69,7 @@ pub const MAX_TOOLS: usize = 20;
 
 impl Default for Config {
     fn default() -> Config {
-        Config {
-            units: default_units(),
-            offsets: WorkOffsets::default(),
-            tools: default_tools(),
-        }
+        Config { units: default_units(), offsets: WorkOffsets::default(), tools: default_tools() }
     }
 }
 
@@ -83,13 +79,7 @@ fn default_units() -> Units {
 
 /// Tool 1: a quarter-inch endmill.
 fn default_tools() -> Vec<Tool> {
-    vec![Tool {
-        number: 1,
-        kind: ToolKind::Endmill,
-        diameter: 0.25,
-        flute_length: None,
-        tip_angle: None,
-    }]
+    vec![Tool { number: 1, kind: ToolKind::Endmill, diameter: 0.25, flute_length: None, tip_angle: None }]
 }
 
 mod units_name {
@@ -101,9 +91,7 @@ mod units_name {
         match String::deserialize(d)?.as_str() {
             "inch" | "in" => Ok(Units::Inch),
             "mm" => Ok(Units::Mm),
-            other => Err(serde::de::Error::custom(format!(
-                "units must be \"inch\" or \"mm\", not \"{other}\""
-            ))),
+            other => Err(serde::de::Error::custom(format!("units must be \"inch\" or \"mm\", not \"{other}\""))),
         }
     }
 }
@@ -112,9 +100,7 @@ impl Config {
     /// Parses a `ger.toml`. The diagnostic's span points into `text`.
     pub fn from_toml(text: &str) -> Result<Config, Diagnostic> {
         let config: Config = toml::from_str(text).map_err(|err| {
-            let span = err
-                .span()
-                .map_or(Span::new(1, 1, 0), |range| span_of(text, range));
+            let span = err.span().map_or(Span::new(1, 1, 0), |range| span_of(text, range));
             Diagnostic::error(span, err.message().to_string())
         })?;
         config.validate(text)
@@ -122,10 +108,7 @@ impl Config {
 
     fn validate(self, text: &str) -> Result<Config, Diagnostic> {
         let at_key = |key: &str| {
-            let line = text
-                .lines()
-                .position(|l| l.trim_start().starts_with(key))
-                .unwrap_or(0);
+            let line = text.lines().position(|l| l.trim_start().starts_with(key)).unwrap_or(0);
             Span::new(line as u32 + 1, 1, 0)
         };
         if self.tools.len() > MAX_TOOLS {
@@ -208,14 +191,9 @@ tip_angle = 90
 
         let err = Config::from_toml("units = \"furlong\"\n").unwrap_err();
         assert_eq!(err.span.line, 1);
-        assert!(
-            err.message.contains("\"inch\" or \"mm\""),
-            "{}",
-            err.message
-        );
+        assert!(err.message.contains("\"inch\" or \"mm\""), "{}", err.message);
 
-        let err = Config::from_toml("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = -1\n")
-            .unwrap_err();
+        let err = Config::from_toml("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = -1\n").unwrap_err();
         assert_eq!(err.span.line, 4);
     }
 }

@@ -27,10 +27,7 @@ impl Span {
         if other.line != self.line || other.col + other.len <= self.col {
             return self;
         }
-        Span {
-            len: other.col + other.len - self.col,
-            ..self
-        }
+        Span { len: other.col + other.len - self.col, ..self }
     }
 }
 
@@ -61,20 +58,11 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     pub fn error(span: Span, message: impl Into<String>) -> Diagnostic {
-        Diagnostic {
-            severity: Severity::Error,
-            message: message.into(),
-            span,
-            help: None,
-            origin: None,
-        }
+        Diagnostic { severity: Severity::Error, message: message.into(), span, help: None, origin: None }
     }
 
     pub fn warning(span: Span, message: impl Into<String>) -> Diagnostic {
-        Diagnostic {
-            severity: Severity::Warning,
-            ..Diagnostic::error(span, message)
-        }
+        Diagnostic { severity: Severity::Warning, ..Diagnostic::error(span, message) }
     }
 
     pub fn with_help(mut self, help: impl Into<String>) -> Diagnostic {
@@ -96,10 +84,7 @@ impl Diagnostic {
         let mut chain = Vec::new();
         let mut next = self.origin.as_deref();
         while let Some(origin) = next {
-            chain.push(format!(
-                "in {} called at line {}",
-                origin.what, origin.call.line
-            ));
+            chain.push(format!("in {} called at line {}", origin.what, origin.call.line));
             next = origin.parent.as_deref();
         }
         chain
@@ -113,10 +98,6 @@ impl fmt::Display for Diagnostic {
             Severity::Warning => "warning",
             Severity::Error => "error",
         };
-        write!(
-            f,
-            "{}:{}: {}: {}",
-            self.span.line, self.span.col, level, self.message
-        )
+        write!(f, "{}:{}: {}: {}", self.span.line, self.span.col, level, self.message)
     }
 }

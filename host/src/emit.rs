@@ -15,18 +15,12 @@ pub struct Emitter {
 /// the rest of the output assumes.
 pub fn preamble(source: &str, units: Units) -> String {
     let source = source.replace(['(', ')'], "");
-    format!(
-        "(ger: translated from {source})\n{}\nG90\nG17\n",
-        units.code()
-    )
+    format!("(ger: translated from {source})\n{}\nG90\nG17\n", units.code())
 }
 
 impl Emitter {
     pub fn new(decimals: usize, line_numbers: bool) -> Emitter {
-        Emitter {
-            decimals,
-            line_numbers,
-        }
+        Emitter { decimals, line_numbers }
     }
 
     /// One statement as a line of G-code, without the newline.
@@ -53,11 +47,7 @@ impl Emitter {
             }
             Kind::Plane(plane) => out.push_str(plane.code()),
             Kind::Units(units) => out.push_str(units.code()),
-            Kind::Distance(d) => out.push_str(if *d == crate::statement::Distance::Absolute {
-                "G90"
-            } else {
-                "G91"
-            }),
+            Kind::Distance(d) => out.push_str(if *d == crate::statement::Distance::Absolute { "G90" } else { "G91" }),
             Kind::Polar(on) => out.push_str(if *on { "G16" } else { "G15" }),
             Kind::Offset { code, axes } => {
                 match code {
@@ -161,9 +151,6 @@ mod tests {
 
     #[test]
     fn preamble_names_the_source_and_modes() {
-        assert_eq!(
-            preamble("part (v2).ngc", Units::Mm),
-            "(ger: translated from part v2.ngc)\nG21\nG90\nG17\n"
-        );
+        assert_eq!(preamble("part (v2).ngc", Units::Mm), "(ger: translated from part v2.ngc)\nG21\nG90\nG17\n");
     }
 }

@@ -77,10 +77,7 @@ mod tests {
 
     #[test]
     fn radius_errors() {
-        assert_eq!(
-            centre_from_radius((0.0, 0.0), (0.0, 0.0), 1.0, true, 1e-4),
-            Err(RadiusArcError::FullCircle)
-        );
+        assert_eq!(centre_from_radius((0.0, 0.0), (0.0, 0.0), 1.0, true, 1e-4), Err(RadiusArcError::FullCircle));
         assert_eq!(
             centre_from_radius((0.0, 0.0), (3.0, 0.0), 1.0, true, 1e-4),
             Err(RadiusArcError::TooShort { chord: 3.0 })

@@ -56,14 +56,7 @@ pub struct Lexer<R> {
 
 impl<R: BufRead> Lexer<R> {
     pub fn new(reader: R) -> Lexer<R> {
-        Lexer {
-            reader,
-            raw: Vec::new(),
-            line_no: 0,
-            pending: Default::default(),
-            open_comment: None,
-            done: false,
-        }
+        Lexer { reader, raw: Vec::new(), line_no: 0, pending: Default::default(), open_comment: None, done: false }
     }
 
     fn read_line(&mut self) -> bool {
@@ -79,10 +72,7 @@ impl<R: BufRead> Lexer<R> {
             }
             Err(err) => {
                 let span = Span::new(self.line_no + 1, 1, 0);
-                self.push_diag(Diagnostic::error(
-                    span,
-                    format!("cannot read the program: {err}"),
-                ));
+                self.push_diag(Diagnostic::error(span, format!("cannot read the program: {err}")));
                 false
             }
         }
@@ -128,10 +118,7 @@ impl<R: BufRead> Lexer<R> {
                     if let Some(nested) = text[..close].find('(') {
                         self.nested_comment(nested);
                     }
-                    self.pending.push_back(Lexed::Token(Token {
-                        kind: TokenKind::Comment(body),
-                        span: start,
-                    }));
+                    self.pending.push_back(Lexed::Token(Token { kind: TokenKind::Comment(body), span: start }));
                     pos = close + 1;
                 }
                 None => {
@@ -186,14 +173,8 @@ impl<R: BufRead> Lexer<R> {
                 b'"' if in_wizard_args => pos = self.string(text, pos),
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
                 _ if c.is_ascii_alphabetic() => {
-                    let name_len = bytes[pos..]
-                        .iter()
-                        .take_while(|b| b.is_ascii_alphanumeric() || **b == b'_')
-                        .count();
-                    let letters = bytes[pos..]
-                        .iter()
-                        .take_while(|b| b.is_ascii_alphabetic())
-                        .count();
+                    let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
+                    let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
                     if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
                         self.push_token(TokenKind::Ident(name), pos, name_len);
@@ -222,11 +203,8 @@ impl<R: BufRead> Lexer<R> {
     }
 
     fn nested_comment(&mut self, col: usize) {
-        let diagnostic = Diagnostic::error(
-            self.span(col, 1),
-            "comments cannot nest: `(` inside a comment",
-        )
-        .with_help("close the first comment with `)` before opening another");
+        let diagnostic = Diagnostic::error(self.span(col, 1), "comments cannot nest: `(` inside a comment")
+            .with_help("close the first comment with `)` before opening another");
         self.push_diag(diagnostic);
     }
 
@@ -235,21 +213,12 @@ impl<R: BufRead> Lexer<R> {
         let letter = text.as_bytes()[start].to_ascii_uppercase() as char;
         let number_len = number_len(&text[start + 1..]);
         let end = start + 1 + number_len;
-        let value = text[start + 1..end]
-            .parse::<f64>()
-            .ok()
-            .filter(|_| number_len > 0);
-        let junk = text[end..]
-            .chars()
-            .take_while(|c| c.is_ascii_digit() || *c == '.')
-            .count();
+        let value = text[start + 1..end].parse::<f64>().ok().filter(|_| number_len > 0);
+        let junk = text[end..].chars().take_while(|c| c.is_ascii_digit() || *c == '.').count();
         match value {
             Some(_) if junk > 0 => {
                 let message = format!("malformed number in `{}`", &text[start..end + junk]);
-                self.push_diag(Diagnostic::error(
-                    self.span(start, end + junk - start),
-                    message,
-                ));
+                self.push_diag(Diagnostic::error(self.span(start, end + junk - start), message));
                 end + junk
             }
             Some(value) if letter == 'N' => {
@@ -270,13 +239,8 @@ impl<R: BufRead> Lexer<R> {
             }
             None => {
                 let message = format!("`{letter}` must be followed by a number");
-                let diagnostic = Diagnostic::error(
-                    self.span(start, end - start + junk.max(1)),
-                    message,
-                )
-                .with_help(format!(
-                    "write it as one word, e.g. {letter}1.5 (no space between letter and number)"
-                ));
+                let diagnostic = Diagnostic::error(self.span(start, end - start + junk.max(1)), message)
+                    .with_help(format!("write it as one word, e.g. {letter}1.5 (no space between letter and number)"));
                 self.push_diag(diagnostic);
                 end + junk
             }
@@ -293,8 +257,7 @@ impl<R: BufRead> Lexer<R> {
                 self.push_token(TokenKind::Number(value), start, len)
             }
             _ => {
-                let message =
-                    format!("wizard argument `{piece}` is neither a number nor a \"string\"");
+                let message = format!("wizard argument `{piece}` is neither a number nor a \"string\"");
                 let diagnostic = Diagnostic::error(self.span(start, len), message)
                     .with_help("put text arguments in double quotes, e.g. Engrave \"HELLO\" 5");
                 self.push_diag(diagnostic);
@@ -312,10 +275,7 @@ impl<R: BufRead> Lexer<R> {
             }
             None => {
                 let message = "string is not closed: a wizard argument's closing `\"` is missing";
-                self.push_diag(Diagnostic::error(
-                    self.span(start, text.len() - start),
-                    message,
-                ));
+                self.push_diag(Diagnostic::error(self.span(start, text.len() - start), message));
                 text.len()
             }
         }
@@ -330,10 +290,7 @@ fn number_len(s: &str) -> usize {
     i += int_digits;
     let mut frac_digits = 0;
     if bytes.get(i) == Some(&b'.') {
-        frac_digits = bytes[i + 1..]
-            .iter()
-            .take_while(|b| b.is_ascii_digit())
-            .count();
+        frac_digits = bytes[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
         i += 1 + frac_digits;
     }
     if int_digits + frac_digits == 0 {
@@ -396,68 +353,26 @@ mod tests {
     fn words_have_spans_and_upper_case_letters() {
         assert_eq!(
             tokens("G01 x-1.25 Y.5 z+2."),
-            [
-                "1:1+3 G1",
-                "1:5+6 X-1.25",
-                "1:12+3 Y0.5",
-                "1:16+4 Z2",
-                "1:20+0 end"
-            ]
+            ["1:1+3 G1", "1:5+6 X-1.25", "1:12+3 Y0.5", "1:16+4 Z2", "1:20+0 end"]
         );
     }
 
     #[test]
     fn semicolon_and_newline_end_statements() {
-        assert_eq!(
-            tokens("X1;Y2\nZ3"),
-            [
-                "1:1+2 X1",
-                "1:3+1 end",
-                "1:4+2 Y2",
-                "1:6+0 end",
-                "2:1+2 Z3",
-                "2:3+0 end"
-            ]
-        );
+        assert_eq!(tokens("X1;Y2\nZ3"), ["1:1+2 X1", "1:3+1 end", "1:4+2 Y2", "1:6+0 end", "2:1+2 Z3", "2:3+0 end"]);
     }
 
     #[test]
     fn comments_may_span_lines_but_not_nest() {
-        assert_eq!(
-            tokens("G00 (one\ntwo) X1"),
-            [
-                "1:1+3 G0",
-                "1:5+4 comment \"one\\ntwo\"",
-                "2:6+2 X1",
-                "2:8+0 end"
-            ]
-        );
-        assert_eq!(
-            tokens("(a (b) c)")[0],
-            "1:4: error: comments cannot nest: `(` inside a comment"
-        );
-        assert_eq!(
-            tokens("G00 (open")[1],
-            "1:5: error: comment is never closed"
-        );
+        assert_eq!(tokens("G00 (one\ntwo) X1"), ["1:1+3 G0", "1:5+4 comment \"one\\ntwo\"", "2:6+2 X1", "2:8+0 end"]);
+        assert_eq!(tokens("(a (b) c)")[0], "1:4: error: comments cannot nest: `(` inside a comment");
+        assert_eq!(tokens("G00 (open")[1], "1:5: error: comment is never closed");
     }
 
     #[test]
     fn line_numbers_and_tape_markers_are_dropped() {
-        assert_eq!(
-            tokens("%\nN10 G01 X1\n%"),
-            [
-                "1:2+0 end",
-                "2:5+3 G1",
-                "2:9+2 X1",
-                "2:11+0 end",
-                "3:2+0 end"
-            ]
-        );
-        assert_eq!(
-            tokens("G01 N10")[1],
-            "1:5: error: an N line number may only start a line"
-        );
+        assert_eq!(tokens("%\nN10 G01 X1\n%"), ["1:2+0 end", "2:5+3 G1", "2:9+2 X1", "2:11+0 end", "3:2+0 end"]);
+        assert_eq!(tokens("G01 N10")[1], "1:5: error: an N line number may only start a line");
     }
 
     #[test]
@@ -475,26 +390,14 @@ mod tests {
                 "2:3+0 end"
             ]
         );
-        assert_eq!(
-            tokens("Pocket 7 X1")[2],
-            "1:10: error: wizard argument `X1` is neither a number nor a \"string\""
-        );
+        assert_eq!(tokens("Pocket 7 X1")[2], "1:10: error: wizard argument `X1` is neither a number nor a \"string\"");
     }
 
     #[test]
     fn malformed_numbers_are_diagnosed() {
-        assert_eq!(
-            tokens("X1.2.3")[0],
-            "1:1: error: malformed number in `X1.2.3`"
-        );
-        assert_eq!(
-            tokens("X - 1")[0],
-            "1:1: error: `X` must be followed by a number"
-        );
-        assert_eq!(
-            tokens("G01 X#1")[1],
-            "1:5: error: `X` must be followed by a number"
-        );
+        assert_eq!(tokens("X1.2.3")[0], "1:1: error: malformed number in `X1.2.3`");
+        assert_eq!(tokens("X - 1")[0], "1:1: error: `X` must be followed by a number");
+        assert_eq!(tokens("G01 X#1")[1], "1:5: error: `X` must be followed by a number");
         assert_eq!(tokens("G01 @")[1], "1:5: error: unexpected `@`");
     }
 }

@@ -9,12 +9,12 @@
 use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
-    Axes, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Side, Statement, Units,
-    Value, WizardArg,
+    Axes, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Side, Statement, Units, Value, WizardArg,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
 pub enum Event {
     Statement(Statement),
     Diagnostic(Diagnostic),
@@ -48,12 +48,7 @@ pub struct Parser<L> {
 }
 
 pub fn parse<L: Iterator<Item = Lexed>>(tokens: L) -> Parser<L> {
-    Parser {
-        tokens,
-        group: None,
-        out: Default::default(),
-        done: false,
-    }
+    Parser { tokens, group: None, out: Default::default(), done: false }
 }
 
 impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
@@ -69,9 +64,7 @@ impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
             }
             match self.tokens.next() {
                 Some(Lexed::Token(token)) => self.token(token),
-                Some(Lexed::Diagnostic(diagnostic)) => {
-                    self.out.push_back(Event::Diagnostic(diagnostic))
-                }
+                Some(Lexed::Diagnostic(diagnostic)) => self.out.push_back(Event::Diagnostic(diagnostic)),
                 None => {
                     self.close();
                     self.done = true;
@@ -87,13 +80,7 @@ impl<L> Parser<L> {
         match token.kind {
             TokenKind::End => self.close(),
             TokenKind::Comment(_) => {}
-            TokenKind::Ident(name) => self.open(
-                Head::Wizard {
-                    name,
-                    args: Vec::new(),
-                },
-                span,
-            ),
+            TokenKind::Ident(name) => self.open(Head::Wizard { name, args: Vec::new() }, span),
             TokenKind::Number(n) => self.wizard_arg(WizardArg::Number(n), span),
             TokenKind::Str(s) => self.wizard_arg(WizardArg::Text(s), span),
             TokenKind::Word { letter, value } => {
@@ -101,11 +88,7 @@ impl<L> Parser<L> {
                 if matches!(letter, 'G' | 'M' | 'O') {
                     self.open(Head::Code { letter, value }, span);
                 } else {
-                    let group = self.group.get_or_insert(Group {
-                        head: Head::Bare,
-                        span,
-                        words: Vec::new(),
-                    });
+                    let group = self.group.get_or_insert(Group { head: Head::Bare, span, words: Vec::new() });
                     group.span = group.span.to(span);
                     group.words.push((letter, value));
                 }
@@ -115,12 +98,7 @@ impl<L> Parser<L> {
 
     fn wizard_arg(&mut self, arg: WizardArg, span: Span) {
         // The lexer only makes argument tokens right after a wizard name.
-        if let Some(Group {
-            head: Head::Wizard { args, .. },
-            span: group_span,
-            ..
-        }) = &mut self.group
-        {
+        if let Some(Group { head: Head::Wizard { args, .. }, span: group_span, .. }) = &mut self.group {
             args.push(arg);
             *group_span = group_span.to(span);
         }
@@ -128,11 +106,7 @@ impl<L> Parser<L> {
 
     fn open(&mut self, head: Head, span: Span) {
         self.close();
-        self.group = Some(Group {
-            head,
-            span,
-            words: Vec::new(),
-        });
+        self.group = Some(Group { head, span, words: Vec::new() });
     }
 
     fn close(&mut self) {
@@ -171,12 +145,8 @@ fn classify(group: Group) -> Result<Statement, Diagnostic> {
 fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
     let span = value.span;
     let name = code_name(letter, value.value);
-    let number = code_number(value.value).ok_or_else(|| {
-        Diagnostic::error(
-            span,
-            format!("`{letter}{}` is not a code ger knows", value.value),
-        )
-    })?;
+    let number = code_number(value.value)
+        .ok_or_else(|| Diagnostic::error(span, format!("`{letter}{}` is not a code ger knows", value.value)))?;
     let no_words = |kind: Kind| -> Result<Kind, Diagnostic> {
         words.only("", &name)?;
         Ok(kind)
@@ -184,20 +154,12 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
     let kind = match (letter, number) {
         ('O', _) if number.is_multiple_of(10) => no_words(Kind::Program(number / 10))?,
         ('G', 0) | ('G', 10) => {
-            let mode = if number == 0 {
-                MotionMode::Rapid
-            } else {
-                MotionMode::Linear
-            };
+            let mode = if number == 0 { MotionMode::Rapid } else { MotionMode::Linear };
             words.only(MOTION_WORDS, &name)?;
             Kind::Motion(motion(Some(mode), words)?)
         }
         ('G', 20) | ('G', 30) => {
-            let mode = if number == 20 {
-                MotionMode::ArcCw
-            } else {
-                MotionMode::ArcCcw
-            };
+            let mode = if number == 20 { MotionMode::ArcCw } else { MotionMode::ArcCcw };
             words.only(ARC_WORDS, &name)?;
             Kind::Motion(motion(Some(mode), words)?)
         }
@@ -211,52 +173,26 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
         ('G', 400) => no_words(Kind::CutterCompCancel)?,
         ('G', 410) | ('G', 420) => {
             words.only("D", &name)?;
-            let side = if number == 410 {
-                Side::Left
-            } else {
-                Side::Right
-            };
-            Kind::CutterComp {
-                side,
-                d: words.whole('D')?,
-            }
+            let side = if number == 410 { Side::Left } else { Side::Right };
+            Kind::CutterComp { side, d: words.whole('D')? }
         }
         ('G', 430) | ('G', 440) => {
             words.only("ZH", &name)?;
             let h = words.whole('H')?.ok_or_else(|| {
-                Diagnostic::error(
-                    span,
-                    format!("{name} needs an H word: the tool length offset register"),
-                )
-                .with_help(format!(
-                    "write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset"
-                ))
+                Diagnostic::error(span, format!("{name} needs an H word: the tool length offset register"))
+                    .with_help(format!("write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset"))
             })?;
-            Kind::ToolLength {
-                positive: number == 430,
-                z: words.get('Z'),
-                h,
-            }
+            Kind::ToolLength { positive: number == 430, z: words.get('Z'), h }
         }
         ('G', 490) => no_words(Kind::ToolLengthCancel)?,
         ('G', 520) | ('G', 920) => {
             words.only("XYZ", &name)?;
-            let code = if number == 520 {
-                Offset::G52
-            } else {
-                Offset::G92
-            };
-            Kind::Offset {
-                code,
-                axes: words.axes("XYZ"),
-            }
+            let code = if number == 520 { Offset::G52 } else { Offset::G92 };
+            Kind::Offset { code, axes: words.axes("XYZ") }
         }
         ('G', 540..=590) if number.is_multiple_of(10) => {
             let entry = (number / 10 - 53) as u8;
-            no_words(Kind::Offset {
-                code: Offset::WorkOffset(entry),
-                axes: Axes::default(),
-            })?
+            no_words(Kind::Offset { code: Offset::WorkOffset(entry), axes: Axes::default() })?
         }
         ('G', 900) => no_words(Kind::Distance(Distance::Absolute))?,
         ('G', 910) => no_words(Kind::Distance(Distance::Incremental))?,
@@ -264,11 +200,8 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
         ('M', 980) => {
             words.only("PL", &name)?;
             let program = words.whole('P')?.ok_or_else(|| {
-                Diagnostic::error(
-                    span,
-                    "M98 needs a P word: the number of the program to call",
-                )
-                .with_help("write e.g. M98 P100 L2 to run O100 twice")
+                Diagnostic::error(span, "M98 needs a P word: the number of the program to call")
+                    .with_help("write e.g. M98 P100 L2 to run O100 twice")
             })?;
             let repeat = words.whole('L')?.unwrap_or(1);
             Kind::Call { program, repeat }
@@ -281,28 +214,16 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
                     words.only("S", &name)?;
                     let s = words.get('S').map(|s| s.value);
                     if let Some(s) = words.get('S').filter(|s| s.value < 0.0) {
-                        return Err(
-                            Diagnostic::error(s.span, "spindle speed cannot be negative")
-                                .with_help(
-                                    "M03 turns clockwise, M04 counter-clockwise; S is the speed",
-                                ),
-                        );
+                        return Err(Diagnostic::error(s.span, "spindle speed cannot be negative")
+                            .with_help("M03 turns clockwise, M04 counter-clockwise; S is the speed"));
                     }
                     Kind::Machine { code, s, t: None }
                 }
                 Machine::ToolChange => {
                     words.only("T", &name)?;
-                    Kind::Machine {
-                        code,
-                        s: None,
-                        t: words.whole('T')?,
-                    }
+                    Kind::Machine { code, s: None, t: words.whole('T')? }
                 }
-                _ => no_words(Kind::Machine {
-                    code,
-                    s: None,
-                    t: None,
-                })?,
+                _ => no_words(Kind::Machine { code, s: None, t: None })?,
             }
         }
         _ => return Err(omitted_or_unknown(letter, number, &name, span)),
@@ -319,24 +240,16 @@ fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic>
         feed: words.get('F'),
     };
     if let (Some(r), false) = (motion.radius, motion.centre.is_empty()) {
-        return Err(
-            Diagnostic::error(r.span, "an arc takes either R or I/J/K, not both")
-                .with_help("keep I/J/K (the centre, relative to the start) or R (the radius)"),
-        );
+        return Err(Diagnostic::error(r.span, "an arc takes either R or I/J/K, not both")
+            .with_help("keep I/J/K (the centre, relative to the start) or R (the radius)"));
     }
     if let Some(f) = motion.feed.filter(|f| f.value <= 0.0) {
-        return Err(Diagnostic::error(
-            f.span,
-            "the feed rate must be greater than zero",
-        ));
+        return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
     }
     if mode == Some(MotionMode::Rapid) {
         if let Some(f) = motion.feed {
-            return Err(
-                Diagnostic::error(f.span, "F is not allowed on a G00 (rapid) move").with_help(
-                    "rapids run at the machine's rapid rate; put F on the next G01/G02/G03",
-                ),
-            );
+            return Err(Diagnostic::error(f.span, "F is not allowed on a G00 (rapid) move")
+                .with_help("rapids run at the machine's rapid rate; put F on the next G01/G02/G03"));
         }
     }
     Ok(motion)
@@ -344,8 +257,7 @@ fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic>
 
 fn omitted_or_unknown(letter: char, number: u32, name: &str, span: Span) -> Diagnostic {
     let omitted = |why: &str, help: &str| {
-        Diagnostic::error(span, format!("{name} is not accepted: {why}"))
-            .with_help(help.to_string())
+        Diagnostic::error(span, format!("{name} is not accepted: {why}")).with_help(help.to_string())
     };
     match (letter, number) {
         ('M', 20) => omitted(
@@ -378,10 +290,7 @@ fn omitted_or_unknown(letter: char, number: u32, name: &str, span: Span) -> Diag
 fn stray_word(words: &Words) -> Diagnostic {
     let (letter, value) = words.list[0];
     let (message, help) = match letter {
-        'S' => (
-            "an S word (spindle speed) goes with M03 or M04",
-            "write e.g. M03 S1000",
-        ),
+        'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000"),
         'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2"),
         'P' | 'L' => ("P and L words go with M98", "write e.g. M98 P100 L2"),
         'H' => ("an H word goes with G43 or G44", "write e.g. G43 H1"),
@@ -413,8 +322,7 @@ fn code_name(letter: char, value: f64) -> String {
 /// A code's number times ten (G61.1 -> 611), if it has at most one decimal.
 fn code_number(value: f64) -> Option<u32> {
     let tenths = value * 10.0;
-    (value >= 0.0 && (tenths - tenths.round()).abs() < 1e-6 && tenths < 1e7)
-        .then(|| tenths.round() as u32)
+    (value >= 0.0 && (tenths - tenths.round()).abs() < 1e-6 && tenths < 1e7).then(|| tenths.round() as u32)
 }
 
 /// The words of one statement, checked for repeats and known letters.
@@ -429,23 +337,15 @@ impl Words {
                 return Err(unknown_letter(*letter, value.span));
             }
             if list[..i].iter().any(|(other, _)| other == letter) {
-                return Err(Diagnostic::error(
-                    value.span,
-                    format!("{letter} appears twice in one statement"),
-                )
-                .with_help(
-                    "a statement takes each word once; start a new line for a second move",
-                ));
+                return Err(Diagnostic::error(value.span, format!("{letter} appears twice in one statement"))
+                    .with_help("a statement takes each word once; start a new line for a second move"));
             }
         }
         Ok(Words { list })
     }
 
     fn get(&self, letter: char) -> Option<Value> {
-        self.list
-            .iter()
-            .find(|(l, _)| *l == letter)
-            .map(|(_, v)| *v)
+        self.list.iter().find(|(l, _)| *l == letter).map(|(_, v)| *v)
     }
 
     fn has_any(&self, letters: &str) -> bool {
@@ -460,16 +360,10 @@ impl Words {
                 let takes = if letters.is_empty() {
                     "no words".to_string()
                 } else {
-                    letters
-                        .chars()
-                        .map(String::from)
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    letters.chars().map(String::from).collect::<Vec<_>>().join(", ")
                 };
-                Err(
-                    Diagnostic::error(value.span, format!("{letter} is not allowed with {what}"))
-                        .with_help(format!("{what} takes {takes}")),
-                )
+                Err(Diagnostic::error(value.span, format!("{letter} is not allowed with {what}"))
+                    .with_help(format!("{what} takes {takes}")))
             }
         }
     }
@@ -477,24 +371,15 @@ impl Words {
     fn axes(&self, letters: &str) -> Axes {
         let mut letters = letters.chars();
         let mut next = || self.get(letters.next().expect("three letters"));
-        Axes {
-            x: next(),
-            y: next(),
-            z: next(),
-        }
+        Axes { x: next(), y: next(), z: next() }
     }
 
     /// A word that must be a whole number (H, D, T, P, L).
     fn whole(&self, letter: char) -> Result<Option<u32>, Diagnostic> {
         match self.get(letter) {
             None => Ok(None),
-            Some(v) if v.value.fract() == 0.0 && (0.0..1e9).contains(&v.value) => {
-                Ok(Some(v.value as u32))
-            }
-            Some(v) => Err(Diagnostic::error(
-                v.span,
-                format!("{letter} must be a whole number, not {}", v.value),
-            )),
+            Some(v) if v.value.fract() == 0.0 && (0.0..1e9).contains(&v.value) => Ok(Some(v.value as u32)),
+            Some(v) => Err(Diagnostic::error(v.span, format!("{letter} must be a whole number, not {}", v.value))),
         }
     }
 }
@@ -517,11 +402,11 @@ mod tests {
     fn a_new_statement_starts_at_every_code() {
         let got = parsed("G01 X1.0 G21 G01 Y250.0");
         assert_eq!(got.len(), 3);
-        assert!(got[0].starts_with(
-            "1:1 Motion(Motion { mode: Some(Linear), target: Axes { x: Some(Value { value: 1.0"
-        ));
+        assert!(got[0].starts_with("1:1 Motion(Motion { mode: Some(Linear), target: Axes { x: Some(Value { value: 1.0"));
         assert_eq!(got[1], "1:10 Units(Mm)");
-        assert!(got[2].starts_with("1:14 Motion(Motion { mode: Some(Linear), target: Axes { x: None, y: Some(Value { value: 250.0"));
+        assert!(got[2].starts_with(
+            "1:14 Motion(Motion { mode: Some(Linear), target: Axes { x: None, y: Some(Value { value: 250.0"
+        ));
     }
 
     #[test]
@@ -533,76 +418,38 @@ mod tests {
 
     #[test]
     fn codes_take_their_words() {
-        assert_eq!(
-            parsed("M98 P100 L3"),
-            ["1:1 Call { program: 100, repeat: 3 }"]
-        );
+        assert_eq!(parsed("M98 P100 L3"), ["1:1 Call { program: 100, repeat: 3 }"]);
         assert_eq!(parsed("M98 P7"), ["1:1 Call { program: 7, repeat: 1 }"]);
-        assert_eq!(
-            parsed("M06 T2"),
-            ["1:1 Machine { code: ToolChange, s: None, t: Some(2) }"]
-        );
-        assert_eq!(
-            parsed("G55"),
-            ["1:1 Offset { code: WorkOffset(2), axes: Axes { x: None, y: None, z: None } }"]
-        );
+        assert_eq!(parsed("M06 T2"), ["1:1 Machine { code: ToolChange, s: None, t: Some(2) }"]);
+        assert_eq!(parsed("G55"), ["1:1 Offset { code: WorkOffset(2), axes: Axes { x: None, y: None, z: None } }"]);
         assert_eq!(parsed("O0100"), ["1:1 Program(100)"]);
-        assert_eq!(
-            parsed("Pocket 1 \"a\""),
-            ["1:1 Wizard { name: \"Pocket\", args: [Number(1.0), Text(\"a\")] }"]
-        );
+        assert_eq!(parsed("Pocket 1 \"a\""), ["1:1 Wizard { name: \"Pocket\", args: [Number(1.0), Text(\"a\")] }"]);
     }
 
     #[test]
     fn bad_statements_are_diagnosed_and_dropped() {
-        assert_eq!(
-            parsed("G00 X1 F10"),
-            ["1:8: error: F is not allowed on a G00 (rapid) move"]
-        );
+        assert_eq!(parsed("G00 X1 F10"), ["1:8: error: F is not allowed on a G00 (rapid) move"]);
         assert_eq!(parsed("G17 X1"), ["1:5: error: X is not allowed with G17"]);
+        assert_eq!(parsed("G01 X1 X2"), ["1:8: error: X appears twice in one statement"]);
+        assert_eq!(parsed("G02 X1 R1 I1"), ["1:8: error: an arc takes either R or I/J/K, not both"]);
         assert_eq!(
-            parsed("G01 X1 X2"),
-            ["1:8: error: X appears twice in one statement"]
+            parsed("G01 A3"),
+            ["1:5: error: `A` word is not accepted: rotary axes are not part of a 3-axis machine"]
         );
-        assert_eq!(
-            parsed("G02 X1 R1 I1"),
-            ["1:8: error: an arc takes either R or I/J/K, not both"]
-        );
-        assert_eq!(parsed("G01 A3"), ["1:5: error: `A` word is not accepted: rotary axes are not part of a 3-axis machine"]);
-        assert_eq!(
-            parsed("S1000"),
-            ["1:1: error: an S word (spindle speed) goes with M03 or M04"]
-        );
+        assert_eq!(parsed("S1000"), ["1:1: error: an S word (spindle speed) goes with M03 or M04"]);
         assert_eq!(parsed("G07"), ["1:1: error: G07 is not a code ger knows"]);
-        assert_eq!(
-            parsed("M98 L2"),
-            ["1:1: error: M98 needs a P word: the number of the program to call"]
-        );
-        assert_eq!(
-            parsed("M06 T1.5"),
-            ["1:5: error: T must be a whole number, not 1.5"]
-        );
+        assert_eq!(parsed("M98 L2"), ["1:1: error: M98 needs a P word: the number of the program to call"]);
+        assert_eq!(parsed("M06 T1.5"), ["1:5: error: T must be a whole number, not 1.5"]);
     }
 
     #[test]
     fn omitted_codes_say_what_to_write_instead() {
-        for (code, help) in [
-            ("M02", "M30"),
-            ("M47", "M98"),
-            ("G28", "G00"),
-            ("G81", "wizard"),
-            ("G83", "wizard"),
-        ] {
+        for (code, help) in [("M02", "M30"), ("M47", "M98"), ("G28", "G00"), ("G81", "wizard"), ("G83", "wizard")] {
             let diagnostic = match parse(lex_str(code)).next() {
                 Some(Event::Diagnostic(d)) => d,
                 _ => panic!("{code} was accepted"),
             };
-            assert!(
-                diagnostic
-                    .message
-                    .starts_with(&format!("{code} is not accepted")),
-                "{code}"
-            );
+            assert!(diagnostic.message.starts_with(&format!("{code} is not accepted")), "{code}");
             assert!(diagnostic.help.unwrap().contains(help), "{code}");
         }
     }

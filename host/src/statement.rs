@@ -19,20 +19,12 @@ pub struct Statement {
 
 impl Statement {
     pub fn new(kind: Kind, span: Span) -> Statement {
-        Statement {
-            kind,
-            span,
-            origin: None,
-        }
+        Statement { kind, span, origin: None }
     }
 
     /// The same origin, a new kind: for passes that rewrite a statement.
     pub fn with_kind(&self, kind: Kind) -> Statement {
-        Statement {
-            kind,
-            span: self.span,
-            origin: self.origin.clone(),
-        }
+        Statement { kind, span: self.span, origin: self.origin.clone() }
     }
 }
 

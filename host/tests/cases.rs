@@ -25,12 +25,7 @@ fn main() {
     let trials = programs
         .into_iter()
         .map(|program| {
-            let name = program
-                .strip_prefix(&root)
-                .unwrap()
-                .with_extension("")
-                .display()
-                .to_string();
+            let name = program.strip_prefix(&root).unwrap().with_extension("").display().to_string();
             Trial::test(name, move || run_case(&program))
         })
         .collect();
@@ -54,14 +49,9 @@ fn run_case(program: &Path) -> Result<(), Failed> {
     let sibling = |ext: &str| program.with_extension(ext);
     let args = std::fs::read_to_string(sibling("args")).unwrap_or_else(|_| "run".to_string());
     let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
-    command
-        .current_dir(dir)
-        .env("NO_COLOR", "1")
-        .args(args.split_whitespace());
+    command.current_dir(dir).env("NO_COLOR", "1").args(args.split_whitespace());
     if sibling("toml").exists() {
-        command
-            .arg("--config")
-            .arg(sibling("toml").file_name().unwrap());
+        command.arg("--config").arg(sibling("toml").file_name().unwrap());
     }
     let output = command.arg(file_name).output()?;
     let stdout = String::from_utf8(output.stdout)?;
@@ -76,25 +66,14 @@ fn run_case(program: &Path) -> Result<(), Failed> {
     let expected_err = std::fs::read_to_string(sibling("err")).unwrap_or_default();
     let mut problems = Vec::new();
     if stdout != expected_out {
-        problems.push(format!(
-            "stdout differs:\n--- expected\n{expected_out}--- actual\n{stdout}"
-        ));
+        problems.push(format!("stdout differs:\n--- expected\n{expected_out}--- actual\n{stdout}"));
     }
     if stderr != expected_err {
-        problems.push(format!(
-            "stderr differs:\n--- expected\n{expected_err}--- actual\n{stderr}"
-        ));
+        problems.push(format!("stderr differs:\n--- expected\n{expected_err}--- actual\n{stderr}"));
     }
-    let expected_status = if expected_err.lines().any(|l| l.starts_with("error")) {
-        1
-    } else {
-        0
-    };
+    let expected_status = if expected_err.lines().any(|l| l.starts_with("error")) { 1 } else { 0 };
     if output.status.code() != Some(expected_status) {
-        problems.push(format!(
-            "exit status {:?}, expected {expected_status}",
-            output.status.code()
-        ));
+        problems.push(format!("exit status {:?}, expected {expected_status}", output.status.code()));
     }
     if problems.is_empty() {
         Ok(())

@@ -11,18 +11,15 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::config::Config;
 use crate::emit::{preamble, Emitter};
+use crate::expand::NoWizards;
 use crate::lex::{Lexed, Lexer, TokenKind};
 use crate::parse::parse;
-use crate::passes::{translate, Event, Library, LAST_STAGE};
+use crate::passes::{translate, Event, Library, Options, LAST_STAGE};
 use crate::statement::Units;
 use report::{plain_error, read_error, Report};
 
 #[derive(Parser)]
-#[command(
-    name = "ger",
-    version,
-    about = "G-code emulatoR, verifiER and transpilER for 3-axis mills and routers"
-)]
+#[command(name = "ger", version, about = "G-code emulatoR, verifiER and transpilER for 3-axis mills and routers")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -118,9 +115,7 @@ impl Input {
     fn new(path: &Path) -> Result<Input, String> {
         if path == Path::new("-") {
             let mut buffer = Vec::new();
-            io::stdin()
-                .read_to_end(&mut buffer)
-                .map_err(|err| read_error("standard input", &err))?;
+            io::stdin().read_to_end(&mut buffer).map_err(|err| read_error("standard input", &err))?;
             return Ok(Input::Stdin(buffer));
         }
         // Open once now so a missing file is reported before anything runs.
@@ -148,9 +143,7 @@ impl Input {
 
     fn dir(&self) -> PathBuf {
         match self {
-            Input::File(path) => path
-                .parent()
-                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+            Input::File(path) => path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf),
             Input::Stdin(_) => PathBuf::from("."),
         }
     }
@@ -214,16 +207,13 @@ fn translate_into(
     mut write: impl FnMut(&str) -> io::Result<()>,
 ) -> io::Result<Report> {
     let library = Library::scanning(|| Library::scan(input.open()));
+    let options = Options { config, stage, wizards: &mut NoWizards };
     // Before pass 01 the numbers are still in the program's own units, which may be finer.
-    let decimals = if stage == 0 {
-        4
-    } else {
-        config.units.decimals()
-    };
+    let decimals = if stage == 0 { 4 } else { config.units.decimals() };
     let emitter = Emitter::new(decimals, line_numbers);
     let mut report = Report::default();
     let mut line = String::new();
-    for event in translate(input.open(), library, config, stage) {
+    for event in translate(input.open(), library, options) {
         match event {
             Event::Statement(statement) => {
                 line.clear();
@@ -247,11 +237,7 @@ fn run(args: &RunArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
     let config = load_config(&args.common, &input)?;
     // Write to a temporary file first: a failed run leaves no half-written output.
-    let dir = args
-        .output
-        .as_ref()
-        .and_then(|p| p.parent())
-        .filter(|d| !d.as_os_str().is_empty());
+    let dir = args.output.as_ref().and_then(|p| p.parent()).filter(|d| !d.as_os_str().is_empty());
     let temp = match dir {
         Some(dir) => tempfile::NamedTempFile::new_in(dir),
         None if args.output.is_some() => tempfile::NamedTempFile::new_in("."),
@@ -259,30 +245,20 @@ fn run(args: &RunArgs) -> Result<i32, String> {
     }
     .map_err(|err| plain_error(&format!("cannot create the output file: {err}"), None))?;
     let mut writer = io::BufWriter::with_capacity(1 << 16, temp);
-    let write_failed =
-        |err: io::Error| plain_error(&format!("cannot write the output: {err}"), None);
-    writer
-        .write_all(preamble(&input.name(), config.units).as_bytes())
-        .map_err(write_failed)?;
-    let report = translate_into(&input, &config, args.stage, !args.no_line_numbers, |line| {
-        writer.write_all(line.as_bytes())
-    })
-    .map_err(write_failed)?;
+    let write_failed = |err: io::Error| plain_error(&format!("cannot write the output: {err}"), None);
+    writer.write_all(preamble(&input.name(), config.units).as_bytes()).map_err(write_failed)?;
+    let report =
+        translate_into(&input, &config, args.stage, !args.no_line_numbers, |line| writer.write_all(line.as_bytes()))
+            .map_err(write_failed)?;
     show(&report, &input);
     if report.errors() > 0 {
         return Ok(1);
     }
-    let temp = writer
-        .into_inner()
-        .map_err(|err| write_failed(err.into_error()))?;
+    let temp = writer.into_inner().map_err(|err| write_failed(err.into_error()))?;
     match &args.output {
         Some(path) => {
-            temp.persist(path).map_err(|err| {
-                plain_error(
-                    &format!("cannot write {}: {}", path.display(), err.error),
-                    None,
-                )
-            })?;
+            temp.persist(path)
+                .map_err(|err| plain_error(&format!("cannot write {}: {}", path.display(), err.error), None))?;
         }
         None => {
             let mut file = temp.reopen().map_err(write_failed)?;
@@ -343,11 +319,7 @@ fn tokens(path: &Path) -> Result<i32, String> {
                 continue;
             }
         };
-        if out
-            .write_all(line.as_bytes())
-            .or_else(ignore_broken_pipe)
-            .is_err()
-        {
+        if out.write_all(line.as_bytes()).or_else(ignore_broken_pipe).is_err() {
             break;
         }
     }
@@ -366,11 +338,7 @@ fn parse_only(path: &Path) -> Result<i32, String> {
         match event {
             Event::Statement(statement) => {
                 let line = emitter.line(&statement) + "\n";
-                if out
-                    .write_all(line.as_bytes())
-                    .or_else(ignore_broken_pipe)
-                    .is_err()
-                {
+                if out.write_all(line.as_bytes()).or_else(ignore_broken_pipe).is_err() {
                     break;
                 }
             }

@@ -48,19 +48,10 @@ impl Report {
     pub fn render(&self, path: &str, source: impl BufRead, styled: bool) -> String {
         let wanted: BTreeSet<u32> = self.shown.iter().map(|d| d.span.line).collect();
         let lines = read_lines(source, &wanted);
-        let renderer = if styled {
-            Renderer::styled()
-        } else {
-            Renderer::plain()
-        };
+        let renderer = if styled { Renderer::styled() } else { Renderer::plain() };
         let mut text = String::new();
         for diagnostic in &self.shown {
-            text.push_str(&render_one(
-                &renderer,
-                diagnostic,
-                path,
-                lines.get(&diagnostic.span.line),
-            ));
+            text.push_str(&render_one(&renderer, diagnostic, path, lines.get(&diagnostic.span.line)));
             text.push_str("\n\n");
         }
         let hidden = self.errors + self.warnings - self.shown.len();
@@ -79,10 +70,7 @@ impl Report {
         match (self.errors, self.warnings) {
             (0, 0) => None,
             (0, w) => Some(format!("warning: {} emitted", plural(w, "warning"))),
-            (e, 0) => Some(format!(
-                "error: could not translate the program: {}",
-                plural(e, "error")
-            )),
+            (e, 0) => Some(format!("error: could not translate the program: {}", plural(e, "error"))),
             (e, w) => Some(format!(
                 "error: could not translate the program: {}, {}",
                 plural(e, "error"),
@@ -113,12 +101,7 @@ fn read_lines(mut source: impl BufRead, wanted: &BTreeSet<u32>) -> HashMap<u32, 
     found
 }
 
-fn render_one(
-    renderer: &Renderer,
-    diagnostic: &Diagnostic,
-    path: &str,
-    line: Option<&String>,
-) -> String {
+fn render_one(renderer: &Renderer, diagnostic: &Diagnostic, path: &str, line: Option<&String>) -> String {
     let level = match diagnostic.severity {
         Severity::Error => Level::ERROR,
         Severity::Warning => Level::WARNING,
@@ -133,10 +116,7 @@ fn render_one(
             let (start, end) = (floor_char(text, start), floor_char(text, end.max(start)));
             let annotation = AnnotationKind::Primary.span(start..end);
             group = group.element(
-                Snippet::source(text.as_str())
-                    .line_start(span.line as usize)
-                    .path(path)
-                    .annotation(annotation),
+                Snippet::source(text.as_str()).line_start(span.line as usize).path(path).annotation(annotation),
             );
         }
         None => {

@@ -8,14 +8,18 @@
 //! the same stream, in program order, and a statement with an error is
 //! dropped so later passes see only statements that make sense.
 
+use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::io::BufRead;
+use std::rc::Rc;
 
 use crate::config::Config;
 use crate::diag::Diagnostic;
+use crate::expand::Wizards;
 use crate::lex::Lexer;
 use crate::parse::parse;
 pub use crate::parse::Event;
+use crate::state;
 use crate::statement::Statement;
 
 pub mod p00_subprograms;
@@ -26,6 +30,7 @@ pub mod p04_absolute;
 pub mod p05_cutter_comp;
 
 pub use p00_subprograms::Library;
+use p00_subprograms::WizardRuntime;
 
 /// A pass that rewrites one statement at a time.
 pub trait Pass {
@@ -63,12 +68,7 @@ pub struct Stage<I, P> {
 
 impl<I: Iterator<Item = Event>, P: Pass> Stage<I, P> {
     pub fn new(upstream: I, pass: P) -> Stage<I, P> {
-        Stage {
-            upstream,
-            pass,
-            out: Out::default(),
-            finished: false,
-        }
+        Stage { upstream, pass, out: Out::default(), finished: false }
     }
 }
 
@@ -96,43 +96,72 @@ impl<I: Iterator<Item = Event>, P: Pass> Iterator for Stage<I, P> {
 /// The last pass: after it, only output codes remain.
 pub const LAST_STAGE: u8 = 5;
 
-/// Lexes, parses and simplifies a program up to and including pass `stage`.
-/// `library` finds subprograms that are called before they are defined.
+/// What a translation needs besides the program.
+pub struct Options<'a> {
+    pub config: &'a Config,
+    /// Show the program after this pass (0..=LAST_STAGE).
+    pub stage: u8,
+    pub wizards: &'a mut dyn Wizards,
+}
+
+/// Lexes, parses and simplifies a program, yielding the statements and
+/// diagnostics as they are after pass `options.stage`. `library` finds
+/// subprograms that are called before they are defined.
 pub fn translate<'a, R: BufRead + 'a>(
     program: R,
     library: Library<'a>,
-    config: &Config,
-    stage: u8,
+    options: Options<'a>,
 ) -> Box<dyn Iterator<Item = Event> + 'a> {
+    let Options { config, stage, wizards } = options;
+    let probe = state::probe(config.units);
+    // Every pass runs whatever the stage shown: wizards are told the state
+    // that passes 01-04 keep, so they must see every statement.
+    let tap = Tap::default();
+    let tapped = |stream: Box<dyn Iterator<Item = Event> + 'a>, after: u8| -> Box<dyn Iterator<Item = Event> + 'a> {
+        if after == stage && stage != LAST_STAGE {
+            Box::new(tap.attach(stream))
+        } else {
+            stream
+        }
+    };
+    let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
     let parsed = parse(Lexer::new(program));
-    let stream: Box<dyn Iterator<Item = Event>> =
-        Box::new(p00_subprograms::Subprograms::new(parsed, library));
-    if stage == 0 {
-        return stream;
+    let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
+    let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
+    let stream =
+        tapped(Box::new(Stage::new(stream, p02_offsets::Offsets::new(config.offsets.clone(), probe.clone()))), 2);
+    let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
+    let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config.units, probe))), 4);
+    let stream = Box::new(Stage::new(stream, p05_cutter_comp::CutterComp));
+    if stage == LAST_STAGE {
+        stream
+    } else {
+        Box::new(tap.drain(stream))
     }
-    let stream = Box::new(Stage::new(stream, p01_units::Units::new(config.units)));
-    if stage == 1 {
-        return stream;
+}
+
+/// Shows an earlier stage while the later ones keep running: the events
+/// leaving that stage are copied aside and handed out instead of the last
+/// stage's. Passes 01-04 have no look-ahead, so little waits in the copy.
+#[derive(Clone, Default)]
+struct Tap {
+    seen: Rc<RefCell<VecDeque<Event>>>,
+}
+
+impl Tap {
+    fn attach<'a>(&self, stream: impl Iterator<Item = Event> + 'a) -> impl Iterator<Item = Event> + 'a {
+        let seen = self.seen.clone();
+        stream.inspect(move |event| seen.borrow_mut().push_back(event.clone()))
     }
-    let stream = Box::new(Stage::new(
-        stream,
-        p02_offsets::Offsets::new(config.offsets.clone()),
-    ));
-    if stage == 2 {
-        return stream;
+
+    fn drain<'a>(self, mut rest: impl Iterator<Item = Event> + 'a) -> impl Iterator<Item = Event> + 'a {
+        std::iter::from_fn(move || loop {
+            if let Some(event) = self.seen.borrow_mut().pop_front() {
+                return Some(event);
+            }
+            rest.next()?;
+        })
     }
-    let stream = Box::new(Stage::new(stream, p03_polar::Polar::default()));
-    if stage == 3 {
-        return stream;
-    }
-    let stream = Box::new(Stage::new(
-        stream,
-        p04_absolute::Absolute::new(config.units),
-    ));
-    if stage == 4 {
-        return stream;
-    }
-    Box::new(Stage::new(stream, p05_cutter_comp::CutterComp))
 }
 
 #[cfg(test)]
@@ -141,12 +170,14 @@ pub(crate) mod testing {
 
     use super::*;
     use crate::emit::Emitter;
+    use crate::expand::NoWizards;
 
     /// The program after `stage`, one line per statement or diagnostic.
     pub fn run_with(text: &str, config: &Config, stage: u8) -> Vec<String> {
         let library = Library::scanning(move || Library::scan(text.as_bytes()));
         let emitter = Emitter::new(config.units.decimals(), false);
-        translate(text.as_bytes(), library, config, stage)
+        let options = Options { config, stage, wizards: &mut NoWizards };
+        translate(text.as_bytes(), library, options)
             .map(|event| match event {
                 Event::Statement(s) => emitter.line(&s),
                 Event::Diagnostic(d) => d.to_string(),

@@ -6,6 +6,10 @@
 //! [`Library`] to scan the whole program once for definitions. A program with
 //! no forward calls is read once.
 //!
+//! Wizard calls are spliced in the same way: the statements a wizard returns
+//! run in place of its call, so a wizard may call subprograms and wizards,
+//! and a subprogram may call wizards (each time with the state of that call).
+//!
 //! This is also where the stream becomes an execution trace, so it is where
 //! a bare move (`X1 Y2`) gets its motion mode written out: later passes see
 //! every move with its G00/G01/G02/G03.
@@ -14,13 +18,18 @@ use std::collections::{HashMap, HashSet};
 use std::io::BufRead;
 use std::sync::Arc;
 
+use crate::config::Config;
 use crate::diag::{Diagnostic, Origin, Span};
+use crate::expand::{Call, Wizards};
 use crate::lex::Lexer;
 use crate::parse::{parse, Event};
+use crate::state::Probe;
 use crate::statement::{Kind, MotionMode, Statement};
 
 /// How deep subprogram calls may nest before ger calls it runaway recursion.
 pub const MAX_CALL_DEPTH: usize = 32;
+/// How deep wizard calls may nest (a wizard whose output calls a wizard ...).
+pub const MAX_WIZARD_DEPTH: usize = 16;
 
 type Body = Arc<Vec<Statement>>;
 
@@ -33,18 +42,12 @@ pub struct Library<'a> {
 impl<'a> Library<'a> {
     /// Only the subprograms defined before they are called.
     pub fn empty() -> Library<'a> {
-        Library {
-            bodies: HashMap::new(),
-            scan: None,
-        }
+        Library { bodies: HashMap::new(), scan: None }
     }
 
     /// `scan` is run the first time a call names a program not seen yet.
     pub fn scanning(scan: impl FnOnce() -> HashMap<u32, Body> + 'a) -> Library<'a> {
-        Library {
-            bodies: HashMap::new(),
-            scan: Some(Box::new(scan)),
-        }
+        Library { bodies: HashMap::new(), scan: Some(Box::new(scan)) }
     }
 
     /// Reads a whole program and keeps the body of every subprogram in it.
@@ -88,11 +91,20 @@ struct Frame {
     next: usize,
     repeats_left: u32,
     origin: Arc<Origin>,
+    wizard: bool,
+}
+
+/// What pass 00 needs to run wizard calls.
+pub struct WizardRuntime<'a> {
+    pub wizards: &'a mut dyn Wizards,
+    pub probe: Probe,
+    pub config: &'a Config,
 }
 
 pub struct Subprograms<'a, I> {
     upstream: I,
     library: Library<'a>,
+    runtime: WizardRuntime<'a>,
     stack: Vec<Frame>,
     /// The subprogram being defined in the main stream, and its body so far.
     defining: Option<(u32, Span, Vec<Statement>)>,
@@ -105,10 +117,11 @@ pub struct Subprograms<'a, I> {
 }
 
 impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
-    pub fn new(upstream: I, library: Library<'a>) -> Subprograms<'a, I> {
+    pub fn new(upstream: I, library: Library<'a>, runtime: WizardRuntime<'a>) -> Subprograms<'a, I> {
         Subprograms {
             upstream,
             library,
+            runtime,
             stack: Vec::new(),
             defining: None,
             defined: HashSet::new(),
@@ -145,10 +158,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             match statement.kind {
                 Kind::Return => {
                     let (number, _, body) = self.defining.take().expect("matched Some");
-                    self.library
-                        .bodies
-                        .entry(number)
-                        .or_insert_with(|| Arc::new(body));
+                    self.library.bodies.entry(number).or_insert_with(|| Arc::new(body));
                 }
                 Kind::Program(inner) => {
                     let message = format!("O{inner} starts inside O{number}, which has no M99 yet");
@@ -156,10 +166,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                         "end O{number} (begun at line {}) with M99 before starting another program",
                         start.line
                     );
-                    return Some(error(
-                        &statement,
-                        Diagnostic::error(statement.span, message).with_help(help),
-                    ));
+                    return Some(error(&statement, Diagnostic::error(statement.span, message).with_help(help)));
                 }
                 _ => body.push(statement),
             }
@@ -170,11 +177,8 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             Kind::Program(number) => {
                 self.defining = Some((number, statement.span, Vec::new()));
                 if !self.defined.insert(number) {
-                    let diagnostic =
-                        Diagnostic::error(statement.span, format!("O{number} is defined twice"))
-                            .with_help(
-                            "give each subprogram its own number; calls run the first definition",
-                        );
+                    let diagnostic = Diagnostic::error(statement.span, format!("O{number} is defined twice"))
+                        .with_help("give each subprogram its own number; calls run the first definition");
                     return Some(error(&statement, diagnostic));
                 }
                 None
@@ -183,11 +187,8 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 if std::mem::replace(&mut self.warned_after_end, true) {
                     return None;
                 }
-                let diagnostic = Diagnostic::warning(
-                    statement.span,
-                    "this statement follows M30 and never runs",
-                )
-                .with_help("after M30, only subprograms (O... to M99) belong in the file");
+                let diagnostic = Diagnostic::warning(statement.span, "this statement follows M30 and never runs")
+                    .with_help("after M30, only subprograms (O... to M99) belong in the file");
                 Some(Event::Diagnostic(diagnostic))
             }
             Kind::Return => {
@@ -210,20 +211,19 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             Kind::Call { program, repeat } => {
                 let (program, repeat) = (*program, *repeat);
                 if self.stack.len() >= MAX_CALL_DEPTH {
-                    let message = format!("subprogram calls nest deeper than {MAX_CALL_DEPTH}: M98 P{program} recurses without end");
-                    let diagnostic = Diagnostic::error(statement.span, message).with_help(
-                        "a subprogram that calls itself, directly or through others, never returns",
+                    let message = format!(
+                        "subprogram calls nest deeper than {MAX_CALL_DEPTH}: M98 P{program} recurses without end"
                     );
+                    let diagnostic = Diagnostic::error(statement.span, message)
+                        .with_help("a subprogram that calls itself, directly or through others, never returns");
                     // Unwind: the rest of this recursion would only repeat the error.
                     self.stack.clear();
                     return Some(error(&statement, diagnostic));
                 }
                 let Some(body) = self.library.find(program) else {
-                    let diagnostic = Diagnostic::error(
-                        statement.span,
-                        format!("M98 calls O{program}, which is not in the program"),
-                    )
-                    .with_help(format!("define it after M30: O{program} ... M99"));
+                    let diagnostic =
+                        Diagnostic::error(statement.span, format!("M98 calls O{program}, which is not in the program"))
+                            .with_help(format!("define it after M30: O{program} ... M99"));
                     return Some(error(&statement, diagnostic));
                 };
                 if repeat > 0 {
@@ -232,12 +232,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                         call: statement.span,
                         parent: statement.origin.clone(),
                     });
-                    self.stack.push(Frame {
-                        body,
-                        next: 0,
-                        repeats_left: repeat,
-                        origin,
-                    });
+                    self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin, wizard: false });
                 }
                 None
             }
@@ -246,13 +241,33 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     .with_help("a subprogram returns with M99; M30 ends the main program");
                 Some(error(&statement, diagnostic))
             }
-            Kind::Wizard { name, .. } => {
-                let diagnostic = Diagnostic::error(
-                    statement.span,
-                    format!("no wizard named `{name}` to run this call"),
-                )
-                .with_help(wizard_help(name));
-                Some(error(&statement, diagnostic))
+            Kind::Wizard { name, args } => {
+                let depth = self.stack.iter().filter(|frame| frame.wizard).count();
+                if depth >= MAX_WIZARD_DEPTH {
+                    let message =
+                        format!("wizard calls nest deeper than {MAX_WIZARD_DEPTH}: `{name}` recurses without end");
+                    let diagnostic = Diagnostic::error(statement.span, message)
+                        .with_help("a wizard whose output calls itself, directly or through others, never finishes");
+                    self.stack.clear();
+                    return Some(error(&statement, diagnostic));
+                }
+                let state = self.runtime.probe.borrow().call_state(self.runtime.config, statement.span.line);
+                let call = Call { name, args, span: statement.span };
+                match self.runtime.wizards.expand(&call, &state) {
+                    Ok(mut body) => {
+                        for generated in &mut body {
+                            generated.span = statement.span;
+                        }
+                        let origin = Arc::new(Origin {
+                            what: format!("wizard `{name}`"),
+                            call: statement.span,
+                            parent: statement.origin.clone(),
+                        });
+                        self.stack.push(Frame { body: Arc::new(body), next: 0, repeats_left: 1, origin, wizard: true });
+                        None
+                    }
+                    Err(diagnostic) => Some(error(&statement, diagnostic)),
+                }
             }
             Kind::Motion(motion) => {
                 match motion.mode {
@@ -270,25 +285,6 @@ fn error(statement: &Statement, diagnostic: Diagnostic) -> Event {
     Event::Diagnostic(diagnostic.with_origin(statement.origin.clone()))
 }
 
-/// `GO1` is an easy typo for `G01`; say so rather than only "no wizard".
-fn wizard_help(name: &str) -> String {
-    let upper = name.to_ascii_uppercase();
-    let bytes = upper.as_bytes();
-    if bytes.len() >= 2
-        && matches!(bytes[0], b'G' | b'M')
-        && bytes[1] == b'O'
-        && bytes[2..].iter().all(u8::is_ascii_digit)
-    {
-        return format!(
-            "did you mean {}0{}? (the letter O was typed for the digit zero)",
-            &upper[..1],
-            &upper[2..]
-        );
-    }
-    "a word of two or more letters calls a wizard; ger looks for it in the wizards directory"
-        .to_string()
-}
-
 impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
     type Item = Event;
 
@@ -301,9 +297,8 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
                     Some(diagnostic) => Some(diagnostic),
                     None => {
                         let (number, span, _) = self.defining.take()?;
-                        let diagnostic =
-                            Diagnostic::error(span, format!("O{number} has no M99 to end it"))
-                                .with_help("a subprogram runs from O<number> to M99");
+                        let diagnostic = Diagnostic::error(span, format!("O{number} has no M99 to end it"))
+                            .with_help("a subprogram runs from O<number> to M99");
                         Some(Event::Diagnostic(diagnostic))
                     }
                 },
@@ -322,17 +317,7 @@ mod tests {
     #[test]
     fn calls_are_replaced_by_the_body_l_times() {
         let program = "O1\nG01 X1 F10\nM98 P100 L2\nM30\nO100\nG91\nX1\nM99\n";
-        assert_eq!(
-            run(program, 0),
-            [
-                "G01 X1.0000 F10.0000",
-                "G91",
-                "G01 X1.0000",
-                "G91",
-                "G01 X1.0000",
-                "M30"
-            ]
-        );
+        assert_eq!(run(program, 0), ["G01 X1.0000 F10.0000", "G91", "G01 X1.0000", "G91", "G01 X1.0000", "M30"]);
     }
 
     #[test]
@@ -345,78 +330,101 @@ mod tests {
     #[test]
     fn bare_moves_take_the_mode_in_force_where_they_run() {
         let program = "G01 X1 F5\nM98 P2\nG00 X0\nM98 P2\nM30\nO2\nY1\nM99\n";
-        assert_eq!(
-            run(program, 0),
-            [
-                "G01 X1.0000 F5.0000",
-                "G01 Y1.0000",
-                "G00 X0.0000",
-                "G00 Y1.0000",
-                "M30"
-            ]
-        );
+        assert_eq!(run(program, 0), ["G01 X1.0000 F5.0000", "G01 Y1.0000", "G00 X0.0000", "G00 Y1.0000", "M30"]);
     }
 
     #[test]
     fn unknown_programs_and_recursion_are_errors_not_hangs() {
-        assert_eq!(
-            run("M98 P9\nM30", 0),
-            [
-                "1:1: error: M98 calls O9, which is not in the program",
-                "M30"
-            ]
-        );
+        assert_eq!(run("M98 P9\nM30", 0), ["1:1: error: M98 calls O9, which is not in the program", "M30"]);
         let got = run("M98 P1\nM30\nO1\nX1\nM98 P1\nM99", 0);
-        assert_eq!(
-            got.iter()
-                .filter(|l| l.contains("nest deeper than 32"))
-                .count(),
-            1,
-            "{got:?}"
-        );
-        assert_eq!(
-            got.iter().filter(|l| l.as_str() == "G00 X1.0000").count(),
-            32
-        );
+        assert_eq!(got.iter().filter(|l| l.contains("nest deeper than 32")).count(), 1, "{got:?}");
+        assert_eq!(got.iter().filter(|l| l.as_str() == "G00 X1.0000").count(), 32);
     }
 
     #[test]
     fn a_second_definition_is_an_error() {
         let got = run("M98 P1\nM30\nO1\nX1\nM99\nO1\nX2\nM99", 0);
-        assert_eq!(
-            got,
-            ["G00 X1.0000", "M30", "6:1: error: O1 is defined twice"]
-        );
+        assert_eq!(got, ["G00 X1.0000", "M30", "6:1: error: O1 is defined twice"]);
     }
 
     #[test]
     fn misplaced_m99_m30_and_trailing_code() {
-        assert_eq!(
-            run("X1\nM99", 0),
-            ["G00 X1.0000", "2:1: error: M99 outside a subprogram"]
-        );
-        assert_eq!(
-            run("M30\nX1\nY1", 0),
-            [
-                "M30",
-                "2:1: warning: this statement follows M30 and never runs"
-            ]
-        );
-        assert_eq!(
-            run("M98 P1\nM30\nO1\nM30\nM99", 0)[0],
-            "4:1: error: M30 inside a subprogram"
-        );
-        assert_eq!(
-            run("M30\nO1\nX1", 0)[1],
-            "2:1: error: O1 has no M99 to end it"
-        );
+        assert_eq!(run("X1\nM99", 0), ["G00 X1.0000", "2:1: error: M99 outside a subprogram"]);
+        assert_eq!(run("M30\nX1\nY1", 0), ["M30", "2:1: warning: this statement follows M30 and never runs"]);
+        assert_eq!(run("M98 P1\nM30\nO1\nM30\nM99", 0)[0], "4:1: error: M30 inside a subprogram");
+        assert_eq!(run("M30\nO1\nX1", 0)[1], "2:1: error: O1 has no M99 to end it");
     }
 
     #[test]
     fn wizard_calls_without_a_wizard_are_errors() {
-        assert_eq!(
-            run("Pocket 1 2 3", 0),
-            ["1:1: error: no wizard named `Pocket` to run this call"]
-        );
+        assert_eq!(run("Pocket 1 2 3", 0), ["1:1: error: no wizard named `Pocket` to run this call"]);
+    }
+
+    mod wizards {
+        use crate::config::Config;
+        use crate::diag::Diagnostic;
+        use crate::emit::Emitter;
+        use crate::expand::{Call, Wizards};
+        use crate::lex::lex_str;
+        use crate::parse::{parse, Event};
+        use crate::passes::{translate, Library, Options};
+        use crate::state::{CallState, Spindle};
+        use crate::statement::{Distance, Statement, Units};
+
+        /// Records what it is told and answers with the G-code text it is given.
+        struct Fake {
+            seen: Vec<CallState>,
+            answer: &'static str,
+        }
+
+        impl Wizards for Fake {
+            fn expand(&mut self, _: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic> {
+                self.seen.push(state.clone());
+                Ok(parse(lex_str(self.answer))
+                    .map(|e| match e {
+                        Event::Statement(s) => s,
+                        Event::Diagnostic(d) => panic!("{d}"),
+                    })
+                    .collect())
+            }
+        }
+
+        fn run(program: &str, fake: &mut Fake) -> Vec<String> {
+            let config = Config::default();
+            let emitter = Emitter::new(4, true);
+            let options = Options { config: &config, stage: 5, wizards: fake };
+            translate(program.as_bytes(), Library::empty(), options)
+                .map(|e| match e {
+                    Event::Statement(s) => emitter.line(&s),
+                    Event::Diagnostic(d) => format!("{d} {:?}", d.call_chain()),
+                })
+                .collect()
+        }
+
+        #[test]
+        fn a_wizard_sees_the_state_at_its_call_in_program_terms() {
+            let mut fake = Fake { seen: Vec::new(), answer: "G01 X1 F100" };
+            let program = "G21\nG52 X25.4\nG00 X10 Y5 Z2\nM03 S1200\nG91\nProbe 1\nM30";
+            let got = run(program, &mut fake);
+            let state = &fake.seen[0];
+            assert_eq!(state.units, Units::Mm);
+            let expected = [10.0, 5.0, 2.0];
+            assert!(state.position.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-9), "{:?}", state.position);
+            assert_eq!(state.distance, Distance::Incremental);
+            assert_eq!(state.spindle, Spindle::Clockwise(Some(1200.0)));
+            assert!((state.tool.as_ref().unwrap().diameter - 6.35).abs() < 1e-9);
+            assert_eq!(state.line, 6);
+            // The wizard's move is incremental, in mm, from X35.4 mm: to 36.4 mm = 1.4331 in.
+            assert_eq!(got[2], "N6 G01 X1.4331 F3.9370");
+        }
+
+        #[test]
+        fn runaway_wizard_recursion_is_an_error() {
+            let mut fake = Fake { seen: Vec::new(), answer: "Again" };
+            let got = run("Again\nM30", &mut fake);
+            assert_eq!(fake.seen.len(), 16);
+            assert!(got[0].starts_with("1:1: error: wizard calls nest deeper than 16"), "{got:?}");
+            assert_eq!(got[1], "N2 M30");
+        }
     }
 }

@@ -4,19 +4,18 @@
 //! otherwise it is taken to be in the machine's unit.
 
 use super::{Out, Pass};
+use crate::state::Probe;
 use crate::statement::{self, Kind, Statement, Value};
 
 pub struct Units {
     machine: statement::Units,
     program: statement::Units,
+    probe: Probe,
 }
 
 impl Units {
-    pub fn new(machine: statement::Units) -> Units {
-        Units {
-            machine,
-            program: machine,
-        }
+    pub fn new(machine: statement::Units, probe: Probe) -> Units {
+        Units { machine, program: machine, probe }
     }
 }
 
@@ -31,6 +30,7 @@ impl Pass for Units {
         match &mut statement.kind {
             Kind::Units(units) => {
                 self.program = *units;
+                self.probe.borrow_mut().program_units = *units;
                 return;
             }
             Kind::Motion(m) if factor != 1.0 => {
@@ -55,28 +55,16 @@ mod tests {
 
     #[test]
     fn millimetres_become_inches_on_an_inch_machine() {
-        let got = run(
-            "G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG43 Z5.08 H1\nG20\nG01 X1",
-            1,
-        );
+        let got = run("G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG43 Z5.08 H1\nG20\nG01 X1", 1);
         assert_eq!(
             got,
-            [
-                "G01 X1.0000 Y-0.5000 F10.0000",
-                "G02 X2.0000 R0.5000",
-                "G52 X0.1000",
-                "G43 Z0.2000 H1",
-                "G01 X1.0000",
-            ]
+            ["G01 X1.0000 Y-0.5000 F10.0000", "G02 X2.0000 R0.5000", "G52 X0.1000", "G43 Z0.2000 H1", "G01 X1.0000",]
         );
     }
 
     #[test]
     fn inches_become_millimetres_on_a_mm_machine() {
-        let config = Config {
-            units: statement::Units::Mm,
-            ..Config::default()
-        };
+        let config = Config { units: statement::Units::Mm, ..Config::default() };
         let got = run_with("G20\nG03 X1 Y1 I1 J0.5 F10", &config, 1);
         assert_eq!(got, ["G03 X25.400 Y25.400 I25.400 J12.700 F254.000"]);
         assert_eq!(run_with("G01 X1 F10", &config, 1), ["G01 X1.000 F10.000"]);

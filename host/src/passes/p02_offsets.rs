@@ -10,6 +10,7 @@ use super::{Out, Pass};
 use crate::config::WorkOffsets;
 use crate::diag::Diagnostic;
 use crate::geom::polar_step;
+use crate::state::Probe;
 use crate::statement::{Distance, Kind, Offset, Plane, Statement};
 
 pub struct Offsets {
@@ -22,10 +23,11 @@ pub struct Offsets {
     plane: Plane,
     polar: bool,
     comp: bool,
+    probe: Probe,
 }
 
 impl Offsets {
-    pub fn new(table: WorkOffsets) -> Offsets {
+    pub fn new(table: WorkOffsets, probe: Probe) -> Offsets {
         Offsets {
             table,
             prz: [0.0; 3],
@@ -34,25 +36,17 @@ impl Offsets {
             plane: Plane::XY,
             polar: false,
             comp: false,
+            probe,
         }
     }
 
     fn mode_forbidding_offsets(&self) -> Option<(&'static str, &'static str)> {
         if self.polar {
-            Some((
-                "polar coordinates (G16) are on",
-                "turn them off with G15 first",
-            ))
+            Some(("polar coordinates (G16) are on", "turn them off with G15 first"))
         } else if self.distance == Distance::Incremental {
-            Some((
-                "incremental mode (G91) is on",
-                "switch to absolute mode with G90 first",
-            ))
+            Some(("incremental mode (G91) is on", "switch to absolute mode with G90 first"))
         } else if self.comp {
-            Some((
-                "cutter radius compensation (G41/G42) is on",
-                "cancel it with G40 first",
-            ))
+            Some(("cutter radius compensation (G41/G42) is on", "cancel it with G40 first"))
         } else {
             None
         }
@@ -70,10 +64,7 @@ impl Pass for Offsets {
             Kind::Offset { code, axes } => {
                 if let Some((why, help)) = self.mode_forbidding_offsets() {
                     let message = format!("cannot change program zero while {why}");
-                    out.error(
-                        &statement,
-                        Diagnostic::error(statement.span, message).with_help(help),
-                    );
+                    out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
                     return;
                 }
                 let given = |axis: usize| axes.get(axis).map_or(0.0, |v| v.value);
@@ -82,6 +73,7 @@ impl Pass for Offsets {
                     Offset::WorkOffset(entry) => self.table.entry(*entry),
                     Offset::G92 => std::array::from_fn(|axis| self.position[axis] - given(axis)),
                 };
+                self.probe.borrow_mut().prz = self.prz;
                 return;
             }
             Kind::Motion(motion) => {
@@ -94,9 +86,7 @@ impl Pass for Offsets {
                     }
                 } else if self.polar {
                     let (first, second, normal) = self.plane.axes();
-                    if let (Some(r), Some(angle)) =
-                        (motion.target.get(first), motion.target.get(second))
-                    {
+                    if let (Some(r), Some(angle)) = (motion.target.get(first), motion.target.get(second)) {
                         let (a, b) = polar_step(r.value, angle.value);
                         self.position[first] += a;
                         self.position[second] += b;
@@ -133,56 +123,23 @@ mod tests {
 
     #[test]
     fn g52_moves_program_zero_and_omitted_axes_are_zero() {
-        let got = run(
-            "G52 X2 Y-4 Z1\nG00 X1 Y1 Z0\nG52 X1\nG00 X0 Y0 Z0\nG52\nX0",
-            2,
-        );
-        assert_eq!(
-            got,
-            [
-                "G00 X3.0000 Y-3.0000 Z1.0000",
-                "G00 X1.0000 Y0.0000 Z0.0000",
-                "G00 X0.0000"
-            ]
-        );
+        let got = run("G52 X2 Y-4 Z1\nG00 X1 Y1 Z0\nG52 X1\nG00 X0 Y0 Z0\nG52\nX0", 2);
+        assert_eq!(got, ["G00 X3.0000 Y-3.0000 Z1.0000", "G00 X1.0000 Y0.0000 Z0.0000", "G00 X0.0000"]);
     }
 
     #[test]
     fn g54_to_g59_use_the_table() {
-        let offsets = WorkOffsets {
-            g54: Some([1.0, 2.0, 3.0]),
-            g59: Some([-1.0, 0.0, 0.5]),
-            ..Default::default()
-        };
-        let config = Config {
-            offsets,
-            ..Config::default()
-        };
+        let offsets = WorkOffsets { g54: Some([1.0, 2.0, 3.0]), g59: Some([-1.0, 0.0, 0.5]), ..Default::default() };
+        let config = Config { offsets, ..Config::default() };
         let got = run_with("G54\nG00 X1 Y1 Z1\nG59\nX1\nG55\nX1", &config, 2);
-        assert_eq!(
-            got,
-            ["G00 X2.0000 Y3.0000 Z4.0000", "G00 X0.0000", "G00 X1.0000"]
-        );
+        assert_eq!(got, ["G00 X2.0000 Y3.0000 Z4.0000", "G00 X0.0000", "G00 X1.0000"]);
     }
 
     #[test]
     fn g92_makes_the_current_position_read_as_given() {
         // The tool is at (2, 3, 0); G92 X0 Y0 makes that program zero.
-        let got = run(
-            "G00 X2 Y3\nG92 X0 Y0\nG00 X1 Y1\nG91\nX1\nG90\nG92 X10\nX10",
-            2,
-        );
-        assert_eq!(
-            got,
-            [
-                "G00 X2.0000 Y3.0000",
-                "G00 X3.0000 Y4.0000",
-                "G91",
-                "G00 X1.0000",
-                "G90",
-                "G00 X4.0000"
-            ]
-        );
+        let got = run("G00 X2 Y3\nG92 X0 Y0\nG00 X1 Y1\nG91\nX1\nG90\nG92 X10\nX10", 2);
+        assert_eq!(got, ["G00 X2.0000 Y3.0000", "G00 X3.0000 Y4.0000", "G91", "G00 X1.0000", "G90", "G00 X4.0000"]);
     }
 
     #[test]

@@ -17,11 +17,7 @@ pub struct Polar {
 
 impl Default for Polar {
     fn default() -> Polar {
-        Polar {
-            on: false,
-            distance: Distance::Absolute,
-            plane: Plane::XY,
-        }
+        Polar { on: false, distance: Distance::Absolute, plane: Plane::XY }
     }
 }
 
@@ -34,11 +30,9 @@ impl Pass for Polar {
                 if self.distance == Distance::Incremental {
                     self.on = true;
                 } else {
-                    let diagnostic = Diagnostic::error(
-                        statement.span,
-                        "G16 (polar coordinates) needs incremental mode",
-                    )
-                    .with_help("write G91 before G16: polar moves step from the current position");
+                    let diagnostic =
+                        Diagnostic::error(statement.span, "G16 (polar coordinates) needs incremental mode")
+                            .with_help("write G91 before G16: polar moves step from the current position");
                     out.error(&statement, diagnostic);
                 }
                 return;
@@ -48,11 +42,8 @@ impl Pass for Polar {
                 return;
             }
             Kind::Distance(Distance::Absolute) if self.on => {
-                let diagnostic =
-                    Diagnostic::error(statement.span, "G90 while polar coordinates (G16) are on")
-                        .with_help(
-                            "polar moves are incremental; turn them off with G15 before G90",
-                        );
+                let diagnostic = Diagnostic::error(statement.span, "G90 while polar coordinates (G16) are on")
+                    .with_help("polar moves are incremental; turn them off with G15 before G90");
                 out.error(&statement, diagnostic);
                 return;
             }
@@ -60,11 +51,9 @@ impl Pass for Polar {
             Kind::Plane(plane) => self.plane = *plane,
             Kind::Motion(motion) if self.on => {
                 if motion.mode.is_some_and(|m| m.is_arc()) && motion.moves() {
-                    let diagnostic = Diagnostic::error(
-                        statement.span,
-                        "arcs (G02/G03) are not allowed in polar coordinates (G16)",
-                    )
-                    .with_help("turn polar coordinates off with G15 before the arc");
+                    let diagnostic =
+                        Diagnostic::error(statement.span, "arcs (G02/G03) are not allowed in polar coordinates (G16)")
+                            .with_help("turn polar coordinates off with G15 before the arc");
                     out.error(&statement, diagnostic);
                     return;
                 }
@@ -72,28 +61,17 @@ impl Pass for Polar {
                 match (motion.target.get(first), motion.target.get(second)) {
                     (Some(r), Some(angle)) => {
                         let (a, b) = polar_step(r.value, angle.value);
-                        *motion.target.slot(first) = Some(Value {
-                            value: a,
-                            span: r.span,
-                        });
-                        *motion.target.slot(second) = Some(Value {
-                            value: b,
-                            span: angle.span,
-                        });
+                        *motion.target.slot(first) = Some(Value { value: a, span: r.span });
+                        *motion.target.slot(second) = Some(Value { value: b, span: angle.span });
                     }
                     (None, None) => {}
                     (given, _) => {
-                        let span = given
-                            .or(motion.target.get(second))
-                            .expect("one is given")
-                            .span;
+                        let span = given.or(motion.target.get(second)).expect("one is given").span;
                         let (r, a) = (AXIS_LETTERS[first], AXIS_LETTERS[second]);
-                        let message =
-                            format!("a polar move needs both a radius ({r}) and an angle ({a})");
+                        let message = format!("a polar move needs both a radius ({r}) and an angle ({a})");
                         out.error(
                             &statement,
-                            Diagnostic::error(span, message)
-                                .with_help(format!("write e.g. {r}1.0 {a}45")),
+                            Diagnostic::error(span, message).with_help(format!("write e.g. {r}1.0 {a}45")),
                         );
                         return;
                     }
@@ -112,15 +90,7 @@ mod tests {
     #[test]
     fn polar_moves_become_incremental_steps() {
         let got = run("G91\nG16\nG01 X2 Y90 Z-1 F10\nX1 Y0\nG15\nX1", 3);
-        assert_eq!(
-            got,
-            [
-                "G91",
-                "G01 X0.0000 Y2.0000 Z-1.0000 F10.0000",
-                "G01 X1.0000 Y0.0000",
-                "G01 X1.0000"
-            ]
-        );
+        assert_eq!(got, ["G91", "G01 X0.0000 Y2.0000 Z-1.0000 F10.0000", "G01 X1.0000 Y0.0000", "G01 X1.0000"]);
     }
 
     #[test]
@@ -132,22 +102,10 @@ mod tests {
 
     #[test]
     fn polar_errors() {
-        assert_eq!(
-            run("G16", 3),
-            ["1:1: error: G16 (polar coordinates) needs incremental mode"]
-        );
+        assert_eq!(run("G16", 3), ["1:1: error: G16 (polar coordinates) needs incremental mode"]);
         let got = run("G91\nG16\nG02 X1 Y1 R1 F1", 3);
-        assert_eq!(
-            got[1],
-            "3:1: error: arcs (G02/G03) are not allowed in polar coordinates (G16)"
-        );
-        assert_eq!(
-            run("G91\nG16\nG90", 3)[1],
-            "3:1: error: G90 while polar coordinates (G16) are on"
-        );
-        assert_eq!(
-            run("G91\nG16\nX1", 3)[1],
-            "3:1: error: a polar move needs both a radius (X) and an angle (Y)"
-        );
+        assert_eq!(got[1], "3:1: error: arcs (G02/G03) are not allowed in polar coordinates (G16)");
+        assert_eq!(run("G91\nG16\nG90", 3)[1], "3:1: error: G90 while polar coordinates (G16) are on");
+        assert_eq!(run("G91\nG16\nX1", 3)[1], "3:1: error: a polar move needs both a radius (X) and an angle (Y)");
     }
 }

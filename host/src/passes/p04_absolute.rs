@@ -9,7 +9,8 @@
 use super::{Out, Pass};
 use crate::diag::Diagnostic;
 use crate::geom::{centre_from_radius, RadiusArcError};
-use crate::statement::{Axes, Distance, Kind, Motion, MotionMode, Plane, Statement, Units, Value};
+use crate::state::{Probe, Spindle};
+use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Statement, Units, Value};
 
 pub struct Absolute {
     units: Units,
@@ -19,10 +20,11 @@ pub struct Absolute {
     feed: Option<f64>,
     /// The feed the output last said, so F is written only when it changes.
     feed_written: Option<f64>,
+    probe: Probe,
 }
 
 impl Absolute {
-    pub fn new(units: Units) -> Absolute {
+    pub fn new(units: Units, probe: Probe) -> Absolute {
         Absolute {
             units,
             distance: Distance::Absolute,
@@ -30,104 +32,65 @@ impl Absolute {
             position: [0.0; 3],
             feed: None,
             feed_written: None,
+            probe,
         }
     }
 
     fn absolute(&self, axis: usize, v: Value) -> Value {
         match self.distance {
             Distance::Absolute => v,
-            Distance::Incremental => Value {
-                value: self.position[axis] + v.value,
-                ..v
-            },
+            Distance::Incremental => Value { value: self.position[axis] + v.value, ..v },
         }
     }
 
     /// The arc's centre offsets from its start (I/J/K), or why it has none.
-    fn arc_centre(
-        &self,
-        motion: &Motion,
-        end: [f64; 3],
-        statement: &Statement,
-    ) -> Result<Axes, Diagnostic> {
+    fn arc_centre(&self, motion: &Motion, end: [f64; 3], statement: &Statement) -> Result<Axes, Diagnostic> {
         let (a, b, normal) = self.plane.axes();
         let letters = ['I', 'J', 'K'];
         let span = statement.span;
         if let Some(v) = motion.centre.get(normal) {
             let plane = self.plane.code();
-            let message = format!(
-                "{} is not used for arcs in the {plane} plane",
-                letters[normal]
-            );
-            return Err(Diagnostic::error(v.span, message).with_help(format!(
-                "in {plane} the centre is given by {} and {}",
-                letters[a], letters[b]
-            )));
+            let message = format!("{} is not used for arcs in the {plane} plane", letters[normal]);
+            return Err(Diagnostic::error(v.span, message)
+                .with_help(format!("in {plane} the centre is given by {} and {}", letters[a], letters[b])));
         }
         let start = (self.position[a], self.position[b]);
         let stop = (end[a], end[b]);
         let tolerance = self.units.arc_tolerance();
         if let Some(r) = motion.radius {
             let ccw = motion.mode == Some(MotionMode::ArcCcw);
-            let centre = centre_from_radius(start, stop, r.value, ccw, tolerance).map_err(
-                |err| match err {
-                    RadiusArcError::FullCircle => {
-                        Diagnostic::error(r.span, "a full circle cannot be given with R").with_help(
-                            format!(
-                                "give the centre with {} and {} instead",
-                                letters[a], letters[b]
-                            ),
-                        )
-                    }
-                    RadiusArcError::TooShort { chord } => Diagnostic::error(
-                        r.span,
-                        format!(
-                            "R{} is too small: the arc's end is {chord:.4} away from its start",
-                            r.value.abs()
-                        ),
-                    )
-                    .with_help(format!(
-                        "the radius must be at least half that distance, {:.4}",
-                        chord / 2.0
-                    )),
-                },
-            )?;
+            let centre = centre_from_radius(start, stop, r.value, ccw, tolerance).map_err(|err| match err {
+                RadiusArcError::FullCircle => Diagnostic::error(r.span, "a full circle cannot be given with R")
+                    .with_help(format!("give the centre with {} and {} instead", letters[a], letters[b])),
+                RadiusArcError::TooShort { chord } => Diagnostic::error(
+                    r.span,
+                    format!("R{} is too small: the arc's end is {chord:.4} away from its start", r.value.abs()),
+                )
+                .with_help(format!("the radius must be at least half that distance, {:.4}", chord / 2.0)),
+            })?;
             let mut offsets = Axes::default();
-            *offsets.slot(a) = Some(Value {
-                value: centre.0 - start.0,
-                span: r.span,
-            });
-            *offsets.slot(b) = Some(Value {
-                value: centre.1 - start.1,
-                span: r.span,
-            });
+            *offsets.slot(a) = Some(Value { value: centre.0 - start.0, span: r.span });
+            *offsets.slot(b) = Some(Value { value: centre.1 - start.1, span: r.span });
             return Ok(offsets);
         }
         if motion.centre.get(a).is_none() && motion.centre.get(b).is_none() {
-            let message = format!(
-                "arc without a centre: give {} and {}, or R",
-                letters[a], letters[b]
+            let message = format!("arc without a centre: give {} and {}, or R", letters[a], letters[b]);
+            return Err(
+                Diagnostic::error(span, message).with_help("I/J/K give the centre relative to the start; R the radius")
             );
-            return Err(Diagnostic::error(span, message)
-                .with_help("I/J/K give the centre relative to the start; R the radius"));
         }
         let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
         let (i, j) = (offset(a), offset(b));
         let start_radius = i.hypot(j);
         let end_radius = (stop.0 - start.0 - i).hypot(stop.1 - start.1 - j);
         if start_radius <= tolerance {
-            return Err(Diagnostic::error(
-                span,
-                "arc radius is zero: its centre is at its start",
-            ));
+            return Err(Diagnostic::error(span, "arc radius is zero: its centre is at its start"));
         }
         if (start_radius - end_radius).abs() > tolerance {
             let message = format!(
                 "arc end is not on the circle: radius {start_radius:.4} at the start, {end_radius:.4} at the end"
             );
-            let help = format!(
-                "the two must agree within {tolerance}; check the end point and the centre offsets"
-            );
+            let help = format!("the two must agree within {tolerance}; check the end point and the centre offsets");
             return Err(Diagnostic::error(span, message).with_help(help));
         }
         let mut offsets = motion.centre;
@@ -145,14 +108,9 @@ impl Absolute {
             return;
         }
         if mode != MotionMode::Rapid && self.feed.is_none() {
-            let diagnostic = Diagnostic::error(
-                statement.span,
-                format!("{} move before any feed rate (F)", mode.code()),
-            )
-            .with_help(format!(
-                "give the feed on this move or before it, e.g. {} ... F10",
-                mode.code()
-            ));
+            let diagnostic =
+                Diagnostic::error(statement.span, format!("{} move before any feed rate (F)", mode.code()))
+                    .with_help(format!("give the feed on this move or before it, e.g. {} ... F10", mode.code()));
             out.error(statement, diagnostic);
             return;
         }
@@ -174,20 +132,14 @@ impl Absolute {
             // An arc states both of its plane's axes, whatever was written.
             let (a, b, _) = self.plane.axes();
             for axis in [a, b] {
-                target.slot(axis).get_or_insert(Value {
-                    value: end[axis],
-                    span: statement.span,
-                });
+                target.slot(axis).get_or_insert(Value { value: end[axis], span: statement.span });
             }
         }
         motion.target = target;
         motion.feed = None;
         if mode != MotionMode::Rapid && self.feed != self.feed_written {
             self.feed_written = self.feed;
-            motion.feed = self.feed.map(|value| Value {
-                value,
-                span: statement.span,
-            });
+            motion.feed = self.feed.map(|value| Value { value, span: statement.span });
         }
         self.position = end;
         out.push(statement.with_kind(Kind::Motion(motion)));
@@ -195,7 +147,18 @@ impl Absolute {
 }
 
 impl Pass for Absolute {
-    fn statement(&mut self, mut statement: Statement, out: &mut Out) {
+    fn statement(&mut self, statement: Statement, out: &mut Out) {
+        self.rewrite(statement, out);
+        let mut probe = self.probe.borrow_mut();
+        probe.position = self.position;
+        probe.distance = self.distance;
+        probe.plane = self.plane;
+        probe.feed = self.feed;
+    }
+}
+
+impl Absolute {
+    fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
         match &mut statement.kind {
             Kind::Distance(distance) => {
                 self.distance = *distance;
@@ -211,6 +174,16 @@ impl Pass for Absolute {
                 *z = self.absolute(2, *z);
                 self.position[2] = z.value;
             }
+            Kind::Machine { code, s, t } => {
+                let mut probe = self.probe.borrow_mut();
+                match code {
+                    Machine::SpindleCw => probe.spindle = Spindle::Clockwise(*s),
+                    Machine::SpindleCcw => probe.spindle = Spindle::CounterClockwise(*s),
+                    Machine::SpindleOff => probe.spindle = Spindle::Off,
+                    Machine::ToolChange => probe.tool = t.unwrap_or(probe.tool),
+                    _ => {}
+                }
+            }
             _ => {}
         }
         out.push(statement);
@@ -224,15 +197,7 @@ mod tests {
     #[test]
     fn incremental_moves_become_absolute() {
         let got = run("G01 X1 Y1 F10\nG91\nX1\nY-2 Z-0.5\nG90\nX0", 4);
-        assert_eq!(
-            got,
-            [
-                "G01 X1.0000 Y1.0000 F10.0000",
-                "G01 X2.0000",
-                "G01 Y-1.0000 Z-0.5000",
-                "G01 X0.0000"
-            ]
-        );
+        assert_eq!(got, ["G01 X1.0000 Y1.0000 F10.0000", "G01 X2.0000", "G01 Y-1.0000 Z-0.5000", "G01 X0.0000"]);
     }
 
     #[test]
@@ -247,14 +212,8 @@ mod tests {
     #[test]
     fn full_circles_and_helices() {
         let got = run("G00 X1\nG02 I-1 Z-0.25 F5", 4);
-        assert_eq!(
-            got[1],
-            "G02 X1.0000 Y0.0000 Z-0.2500 I-1.0000 J0.0000 F5.0000"
-        );
-        assert_eq!(
-            run("G00 X1\nG02 X1 R1 F5", 4)[1],
-            "2:8: error: a full circle cannot be given with R"
-        );
+        assert_eq!(got[1], "G02 X1.0000 Y0.0000 Z-0.2500 I-1.0000 J0.0000 F5.0000");
+        assert_eq!(run("G00 X1\nG02 X1 R1 F5", 4)[1], "2:8: error: a full circle cannot be given with R");
     }
 
     #[test]
@@ -262,10 +221,7 @@ mod tests {
         // G18 (ZX): from (0,0,0) a half circle to Z2 about Z1.
         let got = run("G18\nG02 Z2 K1 F1", 4);
         assert_eq!(got, ["G18", "G02 X0.0000 Z2.0000 I0.0000 K1.0000 F1.0000"]);
-        assert_eq!(
-            run("G19\nG02 Y2 I1 F1", 4)[1],
-            "2:8: error: I is not used for arcs in the G19 plane"
-        );
+        assert_eq!(run("G19\nG02 Y2 I1 F1", 4)[1], "2:8: error: I is not used for arcs in the G19 plane");
     }
 
     #[test]
@@ -274,10 +230,7 @@ mod tests {
             run("G02 X1 Y0 I0.3 F1", 4),
             ["1:1: error: arc end is not on the circle: radius 0.3000 at the start, 0.7000 at the end"]
         );
-        assert_eq!(
-            run("G02 X1 F1", 4),
-            ["1:1: error: arc without a centre: give I and J, or R"]
-        );
+        assert_eq!(run("G02 X1 F1", 4), ["1:1: error: arc without a centre: give I and J, or R"]);
         assert_eq!(
             run("G02 X3 R1 F1", 4),
             ["1:8: error: R1 is too small: the arc's end is 3.0000 away from its start"]
@@ -286,10 +239,7 @@ mod tests {
 
     #[test]
     fn feed_is_required_once_and_written_when_it_changes() {
-        assert_eq!(
-            run("G01 X1", 4),
-            ["1:1: error: G01 move before any feed rate (F)"]
-        );
+        assert_eq!(run("G01 X1", 4), ["1:1: error: G01 move before any feed rate (F)"]);
         let got = run("F20\nG00 X1\nG01 X2\nX3 F20\nX4 F30\nG00 X0\nG01 X1", 4);
         assert_eq!(
             got,

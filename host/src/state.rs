@@ -1,0 +1,100 @@
+//! The machine state where the program has got to, as the passes see it.
+//!
+//! Passes 01-04 each write the part of it they own while statements go
+//! through them; pass 00 reads it when it meets a wizard call, to tell the
+//! wizard where it is called from. That works because the pipeline pulls one
+//! statement at a time and passes 01-04 have no look-ahead: by the time pass
+//! 00 reads the next statement, everything before it has gone through them.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use crate::config::{Config, ToolKind};
+use crate::statement::{Distance, Plane, Units};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Spindle {
+    Off,
+    Clockwise(Option<f64>),
+    CounterClockwise(Option<f64>),
+}
+
+/// Everything in machine units and machine coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    /// Written by pass 01.
+    pub program_units: Units,
+    /// Program zero in machine coordinates; written by pass 02.
+    pub prz: [f64; 3],
+    /// Written by pass 04, as are the rest.
+    pub position: [f64; 3],
+    pub distance: Distance,
+    pub plane: Plane,
+    pub feed: Option<f64>,
+    pub spindle: Spindle,
+    /// The tool M06 last loaded (tool 1 until then).
+    pub tool: u32,
+}
+
+pub type Probe = Rc<RefCell<Snapshot>>;
+
+pub fn probe(machine_units: Units) -> Probe {
+    Rc::new(RefCell::new(Snapshot {
+        program_units: machine_units,
+        prz: [0.0; 3],
+        position: [0.0; 3],
+        distance: Distance::Absolute,
+        plane: Plane::XY,
+        feed: None,
+        spindle: Spindle::Off,
+        tool: 1,
+    }))
+}
+
+/// A tool as a wizard sees it: its diameter in the program's units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolInfo {
+    pub number: u32,
+    pub kind: ToolKind,
+    pub diameter: f64,
+}
+
+/// What a wizard is told about the place it is called from, in the units and
+/// coordinates the program uses there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CallState {
+    pub units: Units,
+    /// The tool's position in program coordinates (after G52/G54..G59/G92).
+    pub position: [f64; 3],
+    pub distance: Distance,
+    pub plane: Plane,
+    pub feed: Option<f64>,
+    pub spindle: Spindle,
+    /// `None` when the loaded tool is not in the tool table.
+    pub tool: Option<ToolInfo>,
+    pub tool_number: u32,
+    /// The line of the call.
+    pub line: u32,
+}
+
+impl Snapshot {
+    pub fn call_state(&self, config: &Config, line: u32) -> CallState {
+        let to_program = config.units.factor_to(self.program_units);
+        let tool = config.tool(self.tool).map(|t| ToolInfo {
+            number: t.number,
+            kind: t.kind,
+            diameter: t.diameter * to_program,
+        });
+        CallState {
+            units: self.program_units,
+            position: std::array::from_fn(|axis| (self.position[axis] - self.prz[axis]) * to_program),
+            distance: self.distance,
+            plane: self.plane,
+            feed: self.feed.map(|f| f * to_program),
+            spindle: self.spindle,
+            tool,
+            tool_number: self.tool,
+            line,
+        }
+    }
+}
