@@ -43,14 +43,23 @@ pub fn lex_str(text: &str) -> Lexer<&[u8]> {
     Lexer::new(text.as_bytes())
 }
 
+struct OpenComment {
+    start: Span,
+    body: String,
+    /// Comments may not nest, but after saying so the lexer skips to the `)`
+    /// that balances the first `(`, so one mistake gives one error.
+    depth: u32,
+    nested_reported: bool,
+}
+
 pub struct Lexer<R> {
     reader: R,
     raw: Vec<u8>,
     line_no: u32,
     /// Tokens of the current line, handed out front to back.
     pending: std::collections::VecDeque<Lexed>,
-    /// Set while a comment is open: where it started and its text so far.
-    open_comment: Option<(Span, String)>,
+    /// Set while a comment is open across lines.
+    open_comment: Option<OpenComment>,
     done: bool,
 }
 
@@ -110,24 +119,16 @@ impl<R: BufRead> Lexer<R> {
         // After a wizard name, the rest of the line is its arguments.
         let mut in_wizard_args = false;
 
-        if let Some((start, mut body)) = self.open_comment.take() {
-            match text.find(')') {
-                Some(close) => {
-                    body.push('\n');
-                    body.push_str(&text[..close]);
-                    if let Some(nested) = text[..close].find('(') {
-                        self.nested_comment(nested);
-                    }
-                    self.pending.push_back(Lexed::Token(Token { kind: TokenKind::Comment(body), span: start }));
-                    pos = close + 1;
+        if let Some(mut comment) = self.open_comment.take() {
+            comment.body.push('\n');
+            match self.continue_comment(text, 0, &mut comment) {
+                Some(end) => {
+                    self.pending
+                        .push_back(Lexed::Token(Token { kind: TokenKind::Comment(comment.body), span: comment.start }));
+                    pos = end;
                 }
                 None => {
-                    if let Some(nested) = text.find('(') {
-                        self.nested_comment(nested);
-                    }
-                    body.push('\n');
-                    body.push_str(text);
-                    self.open_comment = Some((start, body));
+                    self.open_comment = Some(comment);
                     self.raw = line;
                     return;
                 }
@@ -144,22 +145,15 @@ impl<R: BufRead> Lexer<R> {
                     pos += 1;
                 }
                 b'(' => {
-                    let rest = &text[pos + 1..];
-                    match rest.find(')') {
-                        Some(close) => {
-                            let body = &rest[..close];
-                            if let Some(nested) = body.find('(') {
-                                self.nested_comment(pos + 1 + nested);
-                            }
-                            self.push_token(TokenKind::Comment(body.to_string()), pos, close + 2);
-                            pos += close + 2;
+                    let start = self.span(pos, bytes.len() - pos);
+                    let mut comment = OpenComment { start, body: String::new(), depth: 1, nested_reported: false };
+                    match self.continue_comment(text, pos + 1, &mut comment) {
+                        Some(end) => {
+                            self.push_token(TokenKind::Comment(comment.body), pos, end - pos);
+                            pos = end;
                         }
                         None => {
-                            if let Some(nested) = rest.find('(') {
-                                self.nested_comment(pos + 1 + nested);
-                            }
-                            let start = self.span(pos, bytes.len() - pos);
-                            self.open_comment = Some((start, rest.to_string()));
+                            self.open_comment = Some(comment);
                             pos = bytes.len();
                         }
                     }
@@ -202,6 +196,31 @@ impl<R: BufRead> Lexer<R> {
         self.raw = line;
     }
 
+    /// Reads comment text from `from`; returns the index just past the `)`
+    /// that closes the comment, or `None` if the line ends first.
+    fn continue_comment(&mut self, text: &str, from: usize, comment: &mut OpenComment) -> Option<usize> {
+        for (i, byte) in text.bytes().enumerate().skip(from) {
+            match byte {
+                b'(' => {
+                    comment.depth += 1;
+                    if !std::mem::replace(&mut comment.nested_reported, true) {
+                        self.nested_comment(i);
+                    }
+                }
+                b')' => {
+                    comment.depth -= 1;
+                    if comment.depth == 0 {
+                        comment.body.push_str(&text[from..i]);
+                        return Some(i + 1);
+                    }
+                }
+                _ => {}
+            }
+        }
+        comment.body.push_str(&text[from..]);
+        None
+    }
+
     fn nested_comment(&mut self, col: usize) {
         let diagnostic = Diagnostic::error(self.span(col, 1), "comments cannot nest: `(` inside a comment")
             .with_help("close the first comment with `)` before opening another");
@@ -213,38 +232,38 @@ impl<R: BufRead> Lexer<R> {
         let letter = text.as_bytes()[start].to_ascii_uppercase() as char;
         let number_len = number_len(&text[start + 1..]);
         let end = start + 1 + number_len;
-        let value = text[start + 1..end].parse::<f64>().ok().filter(|_| number_len > 0);
+        let Some(value) = text[start + 1..end].parse::<f64>().ok().filter(|_| number_len > 0) else {
+            return self.word_without_number(text, start, letter);
+        };
         let junk = text[end..].chars().take_while(|c| c.is_ascii_digit() || *c == '.').count();
-        match value {
-            Some(_) if junk > 0 => {
-                let message = format!("malformed number in `{}`", &text[start..end + junk]);
-                self.push_diag(Diagnostic::error(self.span(start, end + junk - start), message));
-                end + junk
-            }
-            Some(value) if letter == 'N' => {
-                if !first_on_line {
-                    let message = "an N line number may only start a line";
-                    let diagnostic = Diagnostic::error(self.span(start, end - start), message)
-                        .with_help("remove it, or move it to the start of the line");
-                    self.push_diag(diagnostic);
-                } else if value.fract() != 0.0 || value < 0.0 {
-                    let message = "an N line number must be a whole number";
-                    self.push_diag(Diagnostic::error(self.span(start, end - start), message));
-                }
-                end
-            }
-            Some(value) => {
-                self.push_token(TokenKind::Word { letter, value }, start, end - start);
-                end
-            }
-            None => {
-                let message = format!("`{letter}` must be followed by a number");
-                let diagnostic = Diagnostic::error(self.span(start, end - start + junk.max(1)), message)
-                    .with_help(format!("write it as one word, e.g. {letter}1.5 (no space between letter and number)"));
-                self.push_diag(diagnostic);
-                end + junk
-            }
+        if junk > 0 {
+            let message = format!("malformed number in `{}`", &text[start..end + junk]);
+            self.push_diag(Diagnostic::error(self.span(start, end + junk - start), message));
+        } else if letter != 'N' {
+            self.push_token(TokenKind::Word { letter, value }, start, end - start);
+        } else if !first_on_line {
+            let message = "an N line number may only start a line";
+            let diagnostic = Diagnostic::error(self.span(start, end - start), message)
+                .with_help("remove it, or move it to the start of the line");
+            self.push_diag(diagnostic);
+        } else if value.fract() != 0.0 || value < 0.0 {
+            let message = "an N line number must be a whole number";
+            self.push_diag(Diagnostic::error(self.span(start, end - start), message));
         }
+        end + junk
+    }
+
+    /// `X` with no number after it: the error swallows what looks like the
+    /// number meant (`X -1.5`, `Y-`), so one slip gives one error.
+    fn word_without_number(&mut self, text: &str, start: usize, letter: char) -> usize {
+        let rest = &text[start + 1..];
+        let junk = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit() || " \t+-.".contains(c)).len();
+        let len = 1 + rest[..junk].trim_end().len();
+        let message = format!("`{letter}` must be followed by a number");
+        let diagnostic = Diagnostic::error(self.span(start, len), message)
+            .with_help(format!("write it as one word, e.g. {letter}1.5 (no space between letter and number)"));
+        self.push_diag(diagnostic);
+        start + len
     }
 
     fn wizard_number(&mut self, text: &str, start: usize) -> usize {
@@ -315,8 +334,8 @@ impl<R: BufRead> Iterator for Lexer<R> {
                 self.lex_line();
             } else {
                 self.done = true;
-                if let Some((start, _)) = self.open_comment.take() {
-                    let diagnostic = Diagnostic::error(start, "comment is never closed")
+                if let Some(comment) = self.open_comment.take() {
+                    let diagnostic = Diagnostic::error(comment.start, "comment is never closed")
                         .with_help("add `)` where the comment should end");
                     self.push_diag(diagnostic);
                 }
@@ -365,7 +384,16 @@ mod tests {
     #[test]
     fn comments_may_span_lines_but_not_nest() {
         assert_eq!(tokens("G00 (one\ntwo) X1"), ["1:1+3 G0", "1:5+4 comment \"one\\ntwo\"", "2:6+2 X1", "2:8+0 end"]);
-        assert_eq!(tokens("(a (b) c)")[0], "1:4: error: comments cannot nest: `(` inside a comment");
+        // One error, and the comment runs to the `)` that balances the first `(`.
+        assert_eq!(
+            tokens("(a (b) c) X1"),
+            [
+                "1:4: error: comments cannot nest: `(` inside a comment",
+                "1:1+9 comment \"a (b) c\"",
+                "1:11+2 X1",
+                "1:13+0 end"
+            ]
+        );
         assert_eq!(tokens("G00 (open")[1], "1:5: error: comment is never closed");
     }
 
@@ -396,7 +424,11 @@ mod tests {
     #[test]
     fn malformed_numbers_are_diagnosed() {
         assert_eq!(tokens("X1.2.3")[0], "1:1: error: malformed number in `X1.2.3`");
-        assert_eq!(tokens("X - 1")[0], "1:1: error: `X` must be followed by a number");
+        assert_eq!(tokens("X - 1"), ["1:1: error: `X` must be followed by a number", "1:6+0 end"]);
+        assert_eq!(
+            tokens("G00 Y- X1")[1..],
+            ["1:5: error: `Y` must be followed by a number", "1:8+2 X1", "1:10+0 end"]
+        );
         assert_eq!(tokens("G01 X#1")[1], "1:5: error: `X` must be followed by a number");
         assert_eq!(tokens("G01 @")[1], "1:5: error: unexpected `@`");
     }

@@ -130,6 +130,9 @@ fn classify(group: Group) -> Result<Statement, Diagnostic> {
     let kind = match group.head {
         Head::Wizard { name, args } => Kind::Wizard { name, args },
         Head::Bare => {
+            if let Some((letter, value)) = words.list.iter().find(|(l, _)| !KNOWN_LETTERS.contains(*l)) {
+                return Err(unknown_letter(*letter, value.span));
+            }
             if words.has_any(ARC_WORDS) {
                 words.only(ARC_WORDS, "a move")?;
                 Kind::Motion(motion(None, &words)?)
@@ -325,7 +328,9 @@ fn code_number(value: f64) -> Option<u32> {
     (value >= 0.0 && (tenths - tenths.round()).abs() < 1e-6 && tenths < 1e7).then(|| tenths.round() as u32)
 }
 
-/// The words of one statement, checked for repeats and known letters.
+const KNOWN_LETTERS: &str = "XYZIJKRFSTPLHD";
+
+/// The words of one statement, checked for repeats.
 struct Words {
     list: Vec<(char, Value)>,
 }
@@ -333,9 +338,6 @@ struct Words {
 impl Words {
     fn new(list: Vec<(char, Value)>) -> Result<Words, Diagnostic> {
         for (i, (letter, value)) in list.iter().enumerate() {
-            if !"XYZIJKRFSTPLHD".contains(*letter) {
-                return Err(unknown_letter(*letter, value.span));
-            }
             if list[..i].iter().any(|(other, _)| other == letter) {
                 return Err(Diagnostic::error(value.span, format!("{letter} appears twice in one statement"))
                     .with_help("a statement takes each word once; start a new line for a second move"));
@@ -356,6 +358,7 @@ impl Words {
     fn only(&self, letters: &str, what: &str) -> Result<(), Diagnostic> {
         match self.list.iter().find(|(l, _)| !letters.contains(*l)) {
             None => Ok(()),
+            Some((letter, value)) if !KNOWN_LETTERS.contains(*letter) => Err(unknown_letter(*letter, value.span)),
             Some((letter, value)) => {
                 let takes = if letters.is_empty() {
                     "no words".to_string()
@@ -438,6 +441,15 @@ mod tests {
         );
         assert_eq!(parsed("S1000"), ["1:1: error: an S word (spindle speed) goes with M03 or M04"]);
         assert_eq!(parsed("G07"), ["1:1: error: G07 is not a code ger knows"]);
+        // The code is judged before its words: a canned cycle is named as such.
+        assert_eq!(
+            parsed("G83 X1 Q0.1")[0],
+            "1:1: error: G83 is not accepted: ger has no canned cycles; controllers disagree too much on them"
+        );
+        assert_eq!(
+            parsed("X1 B2"),
+            ["1:4: error: `B` word is not accepted: rotary axes are not part of a 3-axis machine"]
+        );
         assert_eq!(parsed("M98 L2"), ["1:1: error: M98 needs a P word: the number of the program to call"]);
         assert_eq!(parsed("M06 T1.5"), ["1:5: error: T must be a whole number, not 1.5"]);
     }

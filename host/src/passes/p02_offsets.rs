@@ -58,7 +58,8 @@ impl Pass for Offsets {
         match &mut statement.kind {
             Kind::Distance(distance) => self.distance = *distance,
             Kind::Plane(plane) => self.plane = *plane,
-            Kind::Polar(on) => self.polar = *on,
+            // Pass 03 refuses G16 outside G91; a refused G16 leaves polar off.
+            Kind::Polar(on) => self.polar = *on && self.distance == Distance::Incremental,
             Kind::CutterComp { .. } => self.comp = true,
             Kind::CutterCompCancel => self.comp = false,
             Kind::Offset { code, axes } => {
@@ -156,8 +157,10 @@ mod tests {
             "2:1: error: cannot change program zero while incremental mode (G91) is on"
         );
         assert_eq!(
-            run("G16\nG54", 2)[1],
-            "2:1: error: cannot change program zero while polar coordinates (G16) are on"
+            run("G91\nG16\nG54", 2)[2],
+            "3:1: error: cannot change program zero while polar coordinates (G16) are on"
         );
+        // A G16 refused for want of G91 does not count as polar mode.
+        assert_eq!(run("G16\nG54\nX1", 2), ["G16", "G00 X1.0000"]);
     }
 }
