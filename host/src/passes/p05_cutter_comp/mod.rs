@@ -6,14 +6,17 @@
 //!   loaded (tool 1 before any), or of entry w with `G41 Dw`.
 //! - Entry (the manual's way): the tool steps out by the radius,
 //!   perpendicular to the start of the first move in the plane after G41/G42,
-//!   so that move is cut with the offset from its start.
+//!   so that move is cut with the offset from its start. Z moves between the
+//!   two run before the step, where the tool is.
 //! - Lines and arcs (helices too: Z passes through) are offset exactly. At a
 //!   corner, an outside turn goes round the corner point on an arc of the
 //!   tool's radius (a straight G00 when the next move is a rapid, as a rapid
 //!   has no feed for an arc); an inside turn cuts both offsets where they
 //!   cross.
 //! - Exit: after G40 the next move in the plane goes from the offset path to
-//!   its programmed end.
+//!   its programmed end (it must be straight).
+//! - What the pass writes is rounded to the output's resolution, and offset
+//!   moves or corners shorter than that are left out.
 //!
 //! To know how a move ends, the pass must see the next move in the plane, so
 //! it holds one move back, with the statements that follow it (Z moves,
