@@ -132,7 +132,7 @@ macro_rules! export_wizard {
                 }
             }
 
-            $crate::__bindings::export!(GerWizardExport with_types_in $crate::__bindings);
+    $crate::__bindings::export!(GerWizardExport with_types_in $crate::__bindings);
         };
     };
 }
