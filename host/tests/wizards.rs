@@ -228,3 +228,113 @@ fn a_missing_wizard_lists_the_ones_there_are() {
     assert!(diagnostics[0].starts_with("1:1: error: no wizard named `Pocket` in "), "{diagnostics:?}");
     assert!(diagnostics[0].contains("chatter, crash, echo"), "{diagnostics:?}");
 }
+
+fn ger(args: &[&str], stdin: &str, target_dir: &Path) -> (String, String, i32) {
+    use std::io::Write;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        // Share compiled dependencies with the test wizards' builds.
+        .env("CARGO_TARGET_DIR", target_dir)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(stdin.as_bytes()).unwrap();
+    let output = child.wait_with_output().unwrap();
+    let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
+    (text(output.stdout), text(output.stderr), output.status.code().unwrap_or(-1))
+}
+
+#[test]
+fn a_new_wizard_builds_and_runs_unchanged_and_is_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    let wizards = dir.path().to_str().unwrap();
+    let target = repo("tests/wizards/guests/target/cargo");
+    let (out, err, status) = ger(&["wizard", "new", "Square", "--wizards", wizards], "", &target);
+    assert_eq!(status, 0, "{out}{err}");
+    assert!(out.contains("created") && dir.path().join("square/src/lib.rs").is_file(), "{out}");
+    let (_, err, status) = ger(&["wizard", "new", "Sq1", "--wizards", wizards], "", &target);
+    assert_eq!(status, 1);
+    assert!(err.contains("`Sq1` cannot be a wizard's name"), "{err}");
+
+    // `ger run` builds it (its .wasm is missing) and runs it.
+    let program = "G21 G90\nG00 X0 Y0 Z0\nF100\nSquare 10 1\nM30\n";
+    let (out, err, status) =
+        ger(&["run", "--units", "mm", "--no-line-numbers", "--wizards", wizards, "-"], program, &target);
+    assert_eq!(status, 0, "{err}");
+    let body: Vec<&str> = out.lines().skip_while(|l| !l.starts_with("G00 X0")).skip(1).collect();
+    assert_eq!(
+        body,
+        ["G01 Z-1.000 F100.000", "G01 X10.000", "G01 Y10.000", "G01 X0.000", "G01 Y0.000", "G00 Z0.000", "M30"]
+    );
+
+    let (out, err, status) = ger(&["wizard", "list", "--wizards", wizards], "", &target);
+    assert_eq!(status, 0, "{err}");
+    assert!(out.starts_with("Square SIDE DEPTH"), "{out}");
+    assert!(out.contains("(square, Rust)") && out.contains("SIDE         side of the square"), "{out}");
+
+    // --no-build: a missing .wasm is an error that says how to build it.
+    std::fs::remove_file(dir.path().join("square.wasm")).unwrap();
+    let (_, err, status) = ger(&["check", "--no-build", "--wizards", wizards, "-"], program, &target);
+    assert_eq!(status, 1);
+    assert!(err.contains("wizard `Square` is not built") && err.contains("ger wizard build"), "{err}");
+}
+
+#[test]
+fn watch_translates_again_when_the_program_or_a_wizard_changes() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let wizards = dir.path().join("wizards");
+    std::fs::create_dir(&wizards).unwrap();
+    // Built by an earlier use if need be.
+    run("wizards", &mm(""), "BoltCircle 1 1 1\nPocket 1 1 1\n");
+    // `Ww` is BoltCircle at first, then Pocket: the same call, another wizard.
+    std::fs::copy(repo("wizards/boltcircle.wasm"), wizards.join("ww.wasm")).unwrap();
+    let program = dir.path().join("p.ngc");
+    std::fs::write(&program, "G21\nF100\nWw 10 20 1\nM30\n").unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["run", "--units", "mm", "--no-line-numbers", "--watch", "--wizards"])
+        .arg(&wizards)
+        .arg(&program)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let stdout = child.stdout.take().unwrap();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stdout).lines() {
+            if tx.send(line.unwrap()).is_err() {
+                break;
+            }
+        }
+    });
+    let next_run = || -> Vec<String> {
+        let mut lines = Vec::new();
+        while let Ok(line) = rx.recv_timeout(std::time::Duration::from_secs(30)) {
+            let done = line == "M30";
+            lines.push(line);
+            if done {
+                break;
+            }
+        }
+        lines
+    };
+    // Ten holes on a circle of diameter 20, the first at angle 0.
+    let first = next_run();
+    assert!(first.contains(&"G00 X10.000 Y0.000".to_string()), "{first:?}");
+    std::fs::write(&program, "G21\nF100\nX3\nWw 10 20 1\nM30\n").unwrap();
+    let second = next_run();
+    assert!(second.contains(&"G00 X13.000 Y0.000".to_string()), "{second:?}");
+    // Pocket 10 x 20 x 1: rows along X, stepping in Y, which BoltCircle never does.
+    // Later than the run's own writes, which the watcher lets pass.
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    std::fs::copy(repo("wizards/pocket.wasm"), wizards.join("ww.wasm")).unwrap();
+    let third = next_run();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(third.iter().any(|l| l.starts_with("G01 Y")), "{third:?}");
+    assert!(!third.contains(&"G00 X13.000 Y0.000".to_string()), "{third:?}");
+}
