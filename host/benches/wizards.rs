@@ -39,7 +39,9 @@ fn per_call(wizards: &mut WasmWizards, config: &Config, name: &str, args: &[f64]
 }
 
 fn main() {
-    let config = Config::default();
+    // The machine of tests/wizards/pocket: Pocket 10 8 2 is then 18 statements.
+    let config = Config::from_toml("units = \"mm\"\n[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 4.0\n")
+        .expect("a valid config");
     // Build (if stale) and copy Pocket into a fresh directory: its cache starts empty.
     runtime(&repo("wizards"), &config).describe("Pocket").expect("Pocket builds");
     runtime(&repo("tests/wizards/guests"), &config).describe("Nest").expect("Nest builds");
@@ -68,7 +70,7 @@ fn main() {
     println!("per call, Pocket 10 8 2 (18 statements):                  {pocket:>10.2?}");
 
     let program: String = (0..10_000).map(|_| "Pocket 10 8 2\n").collect();
-    let program = format!("G21 F100\n{program}M30\n");
+    let program = format!("G21\nF100\n{program}M30\n");
     let start = Instant::now();
     let mut wizards = runtime(temp.path(), &config);
     let options = Options { config: &config, stage: LAST_STAGE, wizards: &mut wizards };
