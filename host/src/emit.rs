@@ -121,11 +121,38 @@ impl Emitter {
 }
 
 /// Fixed decimals; a value that rounds to zero is written `0.000`, not `-0.000`.
+///
+/// Written by hand because the standard library's exact formatting falls back
+/// to big-number arithmetic for many values, and it dominated translation
+/// time: here the value is scaled, rounded to an integer and the point put in.
 pub fn push_number(out: &mut String, value: f64, decimals: usize) {
-    let start = out.len();
-    let _ = write!(out, "{value:.decimals$}");
-    if out[start..].starts_with('-') && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.') {
-        out.remove(start);
+    const SCALES: [f64; 7] = [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6];
+    let scaled = (value * SCALES[decimals.min(6)]).round();
+    // Past 2^53 an f64 holds no fraction anyway; let the standard library write it.
+    if decimals > 6 || !scaled.is_finite() || scaled.abs() >= 9.0e15 {
+        let start = out.len();
+        let _ = write!(out, "{value:.decimals$}");
+        if out[start..].starts_with('-') && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.') {
+            out.remove(start);
+        }
+        return;
+    }
+    let units = scaled as i64;
+    if units < 0 {
+        out.push('-');
+    }
+    let digits = units.unsigned_abs().to_string();
+    if digits.len() <= decimals {
+        out.push_str("0.");
+        out.extend(std::iter::repeat_n('0', decimals - digits.len()));
+        out.push_str(&digits);
+    } else {
+        let (whole, fraction) = digits.split_at(digits.len() - decimals);
+        out.push_str(whole);
+        if decimals > 0 {
+            out.push('.');
+            out.push_str(fraction);
+        }
     }
 }
 
@@ -146,7 +173,34 @@ mod tests {
         assert_eq!(number(-0.00005001, 4), "-0.0001");
         assert_eq!(number(1e-20, 3), "0.000");
         assert_eq!(number(1e12, 3), "1000000000000.000");
+        assert_eq!(number(1e300, 3).len(), 305);
+        assert_eq!(number(0.5, 0), "1");
+        assert_eq!(number(-0.0005001, 3), "-0.001");
+        assert_eq!(number(123.4567, 3), "123.457");
         assert_eq!(number(-2.5, 3), "-2.500");
+    }
+
+    #[test]
+    fn agrees_with_the_standard_library_away_from_ties() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        for i in 0..200_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let magnitude = 10f64.powi((i % 9) as i32 - 3);
+            let value = (seed as f64 / u64::MAX as f64 - 0.5) * magnitude;
+            for decimals in [3, 4] {
+                let scaled = value * 10f64.powi(decimals as i32);
+                if (scaled.fract().abs() - 0.5).abs() < 1e-6 {
+                    continue; // exact ties may round either way
+                }
+                let mut std = format!("{value:.decimals$}");
+                if std.starts_with('-') && std[1..].bytes().all(|b| b == b'0' || b == b'.') {
+                    std.remove(0);
+                }
+                assert_eq!(number(value, decimals), std, "{value}");
+            }
+        }
     }
 
     #[test]

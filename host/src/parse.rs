@@ -135,7 +135,7 @@ fn classify(group: Group) -> Result<Statement, Diagnostic> {
             }
             if words.has_any(ARC_WORDS) {
                 words.only(ARC_WORDS, "a move")?;
-                Kind::Motion(motion(None, &words)?)
+                Kind::Motion(Box::new(motion(None, &words)?))
             } else {
                 return Err(stray_word(&words));
             }
@@ -159,12 +159,12 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
         ('G', 0) | ('G', 10) => {
             let mode = if number == 0 { MotionMode::Rapid } else { MotionMode::Linear };
             words.only(MOTION_WORDS, &name)?;
-            Kind::Motion(motion(Some(mode), words)?)
+            Kind::Motion(Box::new(motion(Some(mode), words)?))
         }
         ('G', 20) | ('G', 30) => {
             let mode = if number == 20 { MotionMode::ArcCw } else { MotionMode::ArcCcw };
             words.only(ARC_WORDS, &name)?;
-            Kind::Motion(motion(Some(mode), words)?)
+            Kind::Motion(Box::new(motion(Some(mode), words)?))
         }
         ('G', 150) => no_words(Kind::Polar(false))?,
         ('G', 160) => no_words(Kind::Polar(true))?,

@@ -270,7 +270,9 @@ pub enum WizardArg {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Kind {
-    Motion(Motion),
+    /// Boxed: moves are most statements, and a small `Statement` is cheap to
+    /// pass from stage to stage.
+    Motion(Box<Motion>),
     Plane(Plane),
     Units(Units),
     Distance(Distance),

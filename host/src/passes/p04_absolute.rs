@@ -7,7 +7,7 @@
 //! that only sets F disappears.
 
 use super::{Out, Pass};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, Span};
 use crate::geom::{centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
 use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Statement, Units, Value};
@@ -44,10 +44,9 @@ impl Absolute {
     }
 
     /// The arc's centre offsets from its start (I/J/K), or why it has none.
-    fn arc_centre(&self, motion: &Motion, end: [f64; 3], statement: &Statement) -> Result<Axes, Diagnostic> {
+    fn arc_centre(&self, motion: &Motion, end: [f64; 3], span: Span) -> Result<Axes, Diagnostic> {
         let (a, b, normal) = self.plane.axes();
         let letters = ['I', 'J', 'K'];
-        let span = statement.span;
         if let Some(v) = motion.centre.get(normal) {
             let plane = self.plane.code();
             let message = format!("{} is not used for arcs in the {plane} plane", letters[normal]);
@@ -99,50 +98,43 @@ impl Absolute {
         Ok(offsets)
     }
 
-    fn motion(&mut self, mut motion: Motion, statement: &Statement, out: &mut Out) {
+    /// Rewrites a move in place. `Ok(false)`: it only set the feed, drop it.
+    fn motion(&mut self, motion: &mut Motion, span: Span) -> Result<bool, Diagnostic> {
         let mode = motion.mode.expect("pass 00 gives every move its mode");
         if let Some(f) = motion.feed {
             self.feed = Some(f.value);
         }
         if !motion.moves() {
-            return;
+            return Ok(false);
         }
         if mode != MotionMode::Rapid && self.feed.is_none() {
-            let diagnostic =
-                Diagnostic::error(statement.span, format!("{} move before any feed rate (F)", mode.code()))
-                    .with_help(format!("give the feed on this move or before it, e.g. {} ... F10", mode.code()));
-            out.error(statement, diagnostic);
-            return;
+            let diagnostic = Diagnostic::error(span, format!("{} move before any feed rate (F)", mode.code()))
+                .with_help(format!("give the feed on this move or before it, e.g. {} ... F10", mode.code()));
+            return Err(diagnostic);
         }
-        let mut target = Axes::default();
         let mut end = self.position;
         for (axis, end) in end.iter_mut().enumerate() {
-            if let Some(v) = motion.target.get(axis) {
-                let v = self.absolute(axis, v);
+            if let Some(v) = motion.target.slot(axis) {
+                *v = self.absolute(axis, *v);
                 *end = v.value;
-                *target.slot(axis) = Some(v);
             }
         }
         if mode.is_arc() {
-            match self.arc_centre(&motion, end, statement) {
-                Ok(centre) => motion.centre = centre,
-                Err(diagnostic) => return out.error(statement, diagnostic),
-            }
+            motion.centre = self.arc_centre(motion, end, span)?;
             motion.radius = None;
             // An arc states both of its plane's axes, whatever was written.
             let (a, b, _) = self.plane.axes();
             for axis in [a, b] {
-                target.slot(axis).get_or_insert(Value { value: end[axis], span: statement.span });
+                motion.target.slot(axis).get_or_insert(Value { value: end[axis], span });
             }
         }
-        motion.target = target;
         motion.feed = None;
         if mode != MotionMode::Rapid && self.feed != self.feed_written {
             self.feed_written = self.feed;
-            motion.feed = self.feed.map(|value| Value { value, span: statement.span });
+            motion.feed = self.feed.map(|value| Value { value, span });
         }
         self.position = end;
-        out.push(statement.with_kind(Kind::Motion(motion)));
+        Ok(true)
     }
 }
 
@@ -166,10 +158,11 @@ impl Absolute {
             }
             // The output starts in G17; repeating the plane in force says nothing.
             Kind::Plane(plane) if std::mem::replace(&mut self.plane, *plane) == *plane => return,
-            Kind::Motion(motion) => {
-                let motion = std::mem::take(motion);
-                return self.motion(motion, &statement, out);
-            }
+            Kind::Motion(motion) => match self.motion(motion, statement.span) {
+                Ok(true) => {}
+                Ok(false) => return,
+                Err(diagnostic) => return out.error(&statement, diagnostic),
+            },
             Kind::ToolLength { z: Some(z), .. } => {
                 *z = self.absolute(2, *z);
                 self.position[2] = z.value;
