@@ -187,7 +187,7 @@ mod tests {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
-            let magnitude = 10f64.powi((i % 9) as i32 - 3);
+            let magnitude = 10f64.powi(i % 9 - 3);
             let value = (seed as f64 / u64::MAX as f64 - 0.5) * magnitude;
             for decimals in [3, 4] {
                 let scaled = value * 10f64.powi(decimals as i32);
