@@ -35,6 +35,15 @@ impl Emitter {
         if self.line_numbers {
             let _ = write!(out, "N{} ", statement.span.line);
         }
+        let start = out.len();
+        self.write_statement(out, statement);
+        // Words are written with a space before them; a bare move (no code) starts with a word.
+        if out[start..].starts_with(' ') {
+            out.remove(start);
+        }
+    }
+
+    fn write_statement(&self, out: &mut String, statement: &Statement) {
         match &statement.kind {
             Kind::Motion(m) => {
                 if let Some(mode) = m.mode {
