@@ -110,7 +110,21 @@ impl<L> Parser<L> {
     }
 
     fn close(&mut self) {
-        if let Some(group) = self.group.take() {
+        let Some(mut group) = self.group.take() else { return };
+        // `G91 X20` is G91, then a move: words a code cannot take, but a move
+        // can, make a move of their own.
+        let mut then_move = None;
+        if let Head::Code { letter, value } = &group.head {
+            if !takes_axis_words(*letter, value.value) && group.words.iter().any(|(l, _)| ARC_WORDS.contains(*l)) {
+                let (moves, rest): (Vec<_>, Vec<_>) =
+                    std::mem::take(&mut group.words).into_iter().partition(|(l, _)| ARC_WORDS.contains(*l));
+                let span = moves[0].1.span.to(moves[moves.len() - 1].1.span);
+                group.span = rest.iter().fold(value.span, |span, (_, v)| span.to(v.span));
+                group.words = rest;
+                then_move = Some(Group { head: Head::Bare, span, words: moves });
+            }
+        }
+        for group in std::iter::once(group).chain(then_move) {
             let event = match classify(group) {
                 Ok(statement) => Event::Statement(statement),
                 Err(diagnostic) => Event::Diagnostic(diagnostic),
@@ -122,6 +136,11 @@ impl<L> Parser<L> {
 
 /// Which words each kind of statement takes.
 const MOTION_WORDS: &str = "XYZF";
+
+/// The codes whose statements take X, Y or Z: moves, G43/G44, G52 and G92.
+fn takes_axis_words(letter: char, value: f64) -> bool {
+    letter == 'G' && [0.0, 1.0, 2.0, 3.0, 43.0, 44.0, 52.0, 92.0].contains(&value)
+}
 const ARC_WORDS: &str = "XYZIJKRF";
 
 fn classify(group: Group) -> Result<Statement, Diagnostic> {
@@ -420,6 +439,21 @@ mod tests {
     }
 
     #[test]
+    fn move_words_after_a_code_that_takes_none_are_a_move() {
+        let got = parsed("G91 X20 F5\nG54 X0 Y0\nM08 Z1");
+        assert_eq!(got.len(), 6);
+        assert_eq!(got[0], "1:1 Distance(Incremental)");
+        assert!(got[1].starts_with("1:5 Motion(Motion { mode: None, target: Axes { x: Some(Value { value: 20.0"));
+        assert!(got[1].contains("feed: Some(Value { value: 5.0, span: Span { line: 1, col: 9, len: 2 } })"));
+        assert_eq!(got[2], "2:1 Offset { code: WorkOffset(1), axes: Axes { x: None, y: None, z: None } }");
+        assert!(got[3].starts_with("2:5 Motion"));
+        assert!(got[5].starts_with("3:5 Motion"));
+        // Codes that take axis words keep them; other words are still errors.
+        assert!(parsed("G52 X1")[0].starts_with("1:1 Offset { code: G52"));
+        assert_eq!(parsed("G17 P1"), ["1:5: error: P is not allowed with G17"]);
+    }
+
+    #[test]
     fn codes_take_their_words() {
         assert_eq!(parsed("M98 P100 L3"), ["1:1 Call { program: 100, repeat: 3 }"]);
         assert_eq!(parsed("M98 P7"), ["1:1 Call { program: 7, repeat: 1 }"]);
@@ -432,7 +466,6 @@ mod tests {
     #[test]
     fn bad_statements_are_diagnosed_and_dropped() {
         assert_eq!(parsed("G00 X1 F10"), ["1:8: error: F is not allowed on a G00 (rapid) move"]);
-        assert_eq!(parsed("G17 X1"), ["1:5: error: X is not allowed with G17"]);
         assert_eq!(parsed("G01 X1 X2"), ["1:8: error: X appears twice in one statement"]);
         assert_eq!(parsed("G02 X1 R1 I1"), ["1:8: error: an arc takes either R or I/J/K, not both"]);
         assert_eq!(

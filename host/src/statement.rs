@@ -164,6 +164,14 @@ impl Units {
         }
     }
 
+    /// How lengths in this unit are labelled in messages.
+    pub fn abbreviation(self) -> &'static str {
+        match self {
+            Units::Inch => "in",
+            Units::Mm => "mm",
+        }
+    }
+
     /// Output precision: 4 decimals in inches, 3 in millimetres.
     pub fn decimals(self) -> usize {
         match self {

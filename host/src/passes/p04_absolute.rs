@@ -56,6 +56,8 @@ impl Absolute {
         let start = (self.position[a], self.position[b]);
         let stop = (end[a], end[b]);
         let tolerance = self.units.arc_tolerance();
+        // Messages show lengths as the output would: in machine units, rounded.
+        let (u, d) = (self.units.abbreviation(), self.units.decimals());
         if let Some(r) = motion.radius {
             let ccw = motion.mode == Some(MotionMode::ArcCcw);
             let centre = centre_from_radius(start, stop, r.value, ccw, tolerance).map_err(|err| match err {
@@ -63,9 +65,12 @@ impl Absolute {
                     .with_help(format!("give the centre with {} and {} instead", letters[a], letters[b])),
                 RadiusArcError::TooShort { chord } => Diagnostic::error(
                     r.span,
-                    format!("R{} is too small: the arc's end is {chord:.4} away from its start", r.value.abs()),
+                    format!(
+                        "R is too small for this arc: its end is {chord:.d$} {u} from its start, more than twice the radius ({:.d$} {u})",
+                        r.value.abs()
+                    ),
                 )
-                .with_help(format!("the radius must be at least half that distance, {:.4}", chord / 2.0)),
+                .with_help(format!("the radius must be at least half that distance, {:.d$} {u}", chord / 2.0)),
             })?;
             let mut offsets = Axes::default();
             *offsets.slot(a) = Some(Value { value: centre.0 - start.0, span: r.span });
@@ -87,9 +92,9 @@ impl Absolute {
         }
         if (start_radius - end_radius).abs() > tolerance {
             let message = format!(
-                "arc end is not on the circle: radius {start_radius:.4} at the start, {end_radius:.4} at the end"
+                "arc end is not on the circle: radius {start_radius:.d$} {u} at the start, {end_radius:.d$} {u} at the end"
             );
-            let help = format!("the two must agree within {tolerance}; check the end point and the centre offsets");
+            let help = format!("the two must agree within {tolerance} {u}; check the end point and the centre offsets");
             return Err(Diagnostic::error(span, message).with_help(help));
         }
         let mut offsets = motion.centre;
@@ -221,12 +226,12 @@ mod tests {
     fn arc_errors() {
         assert_eq!(
             run("G02 X1 Y0 I0.3 F1", 4),
-            ["1:1: error: arc end is not on the circle: radius 0.3000 at the start, 0.7000 at the end"]
+            ["1:1: error: arc end is not on the circle: radius 0.3000 in at the start, 0.7000 in at the end"]
         );
         assert_eq!(run("G02 X1 F1", 4), ["1:1: error: arc without a centre: give I and J, or R"]);
         assert_eq!(
             run("G02 X3 R1 F1", 4),
-            ["1:8: error: R1 is too small: the arc's end is 3.0000 away from its start"]
+            ["1:8: error: R is too small for this arc: its end is 3.0000 in from its start, more than twice the radius (1.0000 in)"]
         );
     }
 
