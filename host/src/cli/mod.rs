@@ -2,6 +2,7 @@
 //! streams and terminals; everything else takes readers and returns values.
 
 mod report;
+mod wizard;
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, IsTerminal, Read, Seek, Write};
@@ -11,7 +12,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::config::Config;
 use crate::emit::{preamble, Emitter};
-use crate::expand::NoWizards;
+use crate::expand::{Limits, WasmWizards, Wizards};
 use crate::lex::{Lexed, Lexer, TokenKind};
 use crate::parse::parse;
 use crate::passes::{translate, Event, Library, Options, LAST_STAGE};
@@ -36,6 +37,9 @@ enum Command {
     Tokens(InputArg),
     /// Show the parser's view: one statement a line, before any pass.
     Parse(InputArg),
+    /// Make, build and list wizards.
+    #[command(subcommand)]
+    Wizard(wizard::WizardCommand),
 }
 
 #[derive(Args)]
@@ -54,6 +58,45 @@ struct CommonArgs {
     /// The machine's unit, overriding the config file.
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
+    #[command(flatten)]
+    wizards: WizardOptions,
+}
+
+/// Where wizards come from and what a call of one may use.
+#[derive(Args, Clone)]
+pub(crate) struct WizardOptions {
+    /// The wizards directory: NAME.wasm components and the folders they are built from.
+    #[arg(long = "wizards", value_name = "DIR", default_value = "wizards")]
+    pub dir: PathBuf,
+    /// Never build a wizard: one whose .wasm is missing is an error, a stale one runs as it is.
+    #[arg(long)]
+    pub no_build: bool,
+    /// Seconds one wizard call may run.
+    #[arg(long, value_name = "SECONDS", default_value_t = 1.0, value_parser = positive_seconds)]
+    pub wizard_time: f64,
+    /// MiB of memory one wizard call may use.
+    #[arg(long, value_name = "MIB", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub wizard_memory: u32,
+}
+
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s > 0.0 && s <= 3600.0 => Ok(s),
+        _ => Err("expected a number of seconds above 0 and at most 3600".to_string()),
+    }
+}
+
+impl WizardOptions {
+    /// The runtime for a translation on `config`'s machine.
+    pub fn runtime(&self, config: &Config) -> WasmWizards {
+        let limits = Limits {
+            time: std::time::Duration::from_secs_f64(self.wizard_time),
+            memory: (self.wizard_memory as usize) << 20,
+            ..Limits::default()
+        };
+        let progress = (!self.no_build).then(wizard::progress);
+        WasmWizards::new(&self.dir, config, limits, progress)
+    }
 }
 
 #[derive(Args)]
@@ -70,6 +113,9 @@ struct RunArgs {
     /// Leave out the N<line> on each output line.
     #[arg(long)]
     no_line_numbers: bool,
+    /// Translate again whenever the program, the config or a wizard changes.
+    #[arg(long)]
+    watch: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -94,6 +140,7 @@ pub fn main() -> i32 {
         Command::Check(args) => check(&args),
         Command::Tokens(args) => tokens(&args.file),
         Command::Parse(args) => parse_only(&args.file),
+        Command::Wizard(command) => wizard::main(command),
     };
     match result {
         Ok(status) => status,
@@ -194,7 +241,7 @@ fn load_config(args: &CommonArgs, input: &Input) -> Result<Config, String> {
     Ok(config)
 }
 
-fn styled() -> bool {
+pub(crate) fn styled() -> bool {
     io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
 }
 
@@ -204,10 +251,11 @@ fn translate_into(
     config: &Config,
     stage: u8,
     line_numbers: bool,
+    wizards: &mut dyn Wizards,
     mut write: impl FnMut(&str) -> io::Result<()>,
 ) -> io::Result<Report> {
     let library = Library::scanning(|| Library::scan(input.open()));
-    let options = Options { config, stage, wizards: &mut NoWizards };
+    let options = Options { config, stage, wizards };
     // Before pass 01 the numbers are still in the program's own units, which may be finer.
     let decimals = if stage == 0 { 4 } else { config.units.decimals() };
     let emitter = Emitter::new(decimals, line_numbers);
@@ -235,7 +283,15 @@ fn show(report: &Report, input: &Input) {
 
 fn run(args: &RunArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input)?;
+    if args.watch {
+        return wizard::watch(&input, &args.common, || run_once(args, &input));
+    }
+    run_once(args, &input)
+}
+
+fn run_once(args: &RunArgs, input: &Input) -> Result<i32, String> {
+    let config = load_config(&args.common, input)?;
+    let mut wizards = args.common.wizards.runtime(&config);
     // Write to a temporary file first: a failed run leaves no half-written output.
     let dir = args.output.as_ref().and_then(|p| p.parent()).filter(|d| !d.as_os_str().is_empty());
     let temp = match dir {
@@ -247,10 +303,11 @@ fn run(args: &RunArgs) -> Result<i32, String> {
     let mut writer = io::BufWriter::with_capacity(1 << 16, temp);
     let write_failed = |err: io::Error| plain_error(&format!("cannot write the output: {err}"), None);
     writer.write_all(preamble(&input.name(), config.units).as_bytes()).map_err(write_failed)?;
-    let report =
-        translate_into(&input, &config, args.stage, !args.no_line_numbers, |line| writer.write_all(line.as_bytes()))
-            .map_err(write_failed)?;
-    show(&report, &input);
+    let report = translate_into(input, &config, args.stage, !args.no_line_numbers, &mut wizards, |line| {
+        writer.write_all(line.as_bytes())
+    })
+    .map_err(write_failed)?;
+    show(&report, input);
     if report.errors() > 0 {
         return Ok(1);
     }
@@ -286,7 +343,8 @@ fn ignore_broken_pipe(err: io::Error) -> io::Result<()> {
 fn check(args: &CommonArgs) -> Result<i32, String> {
     let input = Input::new(&args.file)?;
     let config = load_config(args, &input)?;
-    let report = translate_into(&input, &config, LAST_STAGE, false, |_| Ok(()))
+    let mut wizards = args.wizards.runtime(&config);
+    let report = translate_into(&input, &config, LAST_STAGE, false, &mut wizards, |_| Ok(()))
         .map_err(|err| plain_error(&err.to_string(), None))?;
     show(&report, &input);
     if report.errors() + report.warnings() == 0 {

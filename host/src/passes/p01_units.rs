@@ -2,9 +2,12 @@
 //! converts every length (X Y Z, I J K, R, F, G52/G92 values, G43/G44 Z) to
 //! the machine's unit and drops the G20/G21 statements. Until the program says
 //! otherwise it is taken to be in the machine's unit. In polar mode (G16) the
-//! word for the plane's second axis is an angle, and stays as it is.
+//! word for the plane's second axis is an angle, and stays as it is. The units
+//! may not change while cutter radius compensation (G41/G42) is on: the radius
+//! is in force.
 
 use super::{Out, Pass};
+use crate::diag::Diagnostic;
 use crate::state::Probe;
 use crate::statement::{self, Kind, Plane, Statement, Value};
 
@@ -13,12 +16,14 @@ pub struct Units {
     program: statement::Units,
     polar: bool,
     plane: Plane,
+    /// G41/G42 in force (until G40).
+    comp: bool,
     probe: Probe,
 }
 
 impl Units {
     pub fn new(machine: statement::Units, probe: Probe) -> Units {
-        Units { machine, program: machine, polar: false, plane: Plane::XY, probe }
+        Units { machine, program: machine, polar: false, plane: Plane::XY, comp: false, probe }
     }
 }
 
@@ -31,6 +36,14 @@ impl Pass for Units {
             }
         };
         match &mut statement.kind {
+            Kind::CutterComp { .. } => self.comp = true,
+            Kind::CutterCompCancel => self.comp = false,
+            Kind::Units(units) if self.comp && *units != self.program => {
+                let message =
+                    format!("cannot change units ({}) with cutter radius compensation (G41/G42) on", units.code());
+                out.error(&statement, Diagnostic::error(statement.span, message).with_help("cancel it with G40 first"));
+                return;
+            }
             Kind::Units(units) => {
                 self.program = *units;
                 self.probe.borrow_mut().program_units = *units;
@@ -82,5 +95,20 @@ mod tests {
         let got = run_with("G20\nG03 X1 Y1 I1 J0.5 F10", &config, 1);
         assert_eq!(got, ["G03 X25.400 Y25.400 I25.400 J12.700 F254.000"]);
         assert_eq!(run_with("G01 X1 F10", &config, 1), ["G01 X1.000 F10.000"]);
+    }
+
+    #[test]
+    fn units_cannot_change_with_cutter_comp_on() {
+        let got = run("G41\nG20\nG21\nG01 X1 F10\nG40\nG21\nG01 X25.4", 1);
+        assert_eq!(
+            got,
+            [
+                "G41",
+                "3:1: error: cannot change units (G21) with cutter radius compensation (G41/G42) on",
+                "G01 X1.0000 F10.0000",
+                "G40",
+                "G01 X1.0000"
+            ]
+        );
     }
 }

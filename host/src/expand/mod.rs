@@ -4,7 +4,22 @@
 //! with the machine state at the call; the statements it returns run in place
 //! of the call (pass 00 splices them in, as it does subprogram bodies, so they
 //! may call subprograms and other wizards). [`NoWizards`] is the runtime for
-//! a translation with no wizards directory.
+//! a translation with no wizards directory; [`WasmWizards`] runs WebAssembly
+//! components from one (see `wit/wizard.wit` for the contract).
+//!
+//! - [`catalog`] finds wizards in a directory by name;
+//! - [`build`] turns a wizard's sources (Rust, Python, JavaScript) into `.wasm`;
+//! - [`cache`] keeps compiled components on disk by content hash;
+//! - [`runtime`] runs calls in a sandbox;
+//! - [`render`] turns a wizard's typed statements into ger's statements.
+
+pub mod build;
+pub mod cache;
+pub mod catalog;
+mod render;
+pub mod runtime;
+
+pub use runtime::{Limits, WasmWizards};
 
 use crate::diag::{Diagnostic, Span};
 use crate::state::CallState;

@@ -1,0 +1,120 @@
+//! The machine state at a call, as plain Rust types.
+
+use crate::__bindings::ger::wizard::types as wit;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    Mm,
+    Inch,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distance {
+    Absolute,
+    Incremental,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Plane {
+    XY,
+    ZX,
+    YZ,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Spindle {
+    Off,
+    Clockwise(Option<f64>),
+    CounterClockwise(Option<f64>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolKind {
+    Endmill,
+    Ballmill,
+    Drill,
+    CenterDrill,
+}
+
+/// A tool from the tool table, in the program's units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tool {
+    pub number: u32,
+    pub kind: ToolKind,
+    pub diameter: f64,
+    pub flute_length: Option<f64>,
+    pub tip_angle: Option<f64>,
+}
+
+/// Where the program is at the call, in its units and coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    pub units: Units,
+    /// X, Y, Z in program coordinates.
+    pub position: [f64; 3],
+    pub distance: Distance,
+    pub plane: Plane,
+    pub feed: Option<f64>,
+    pub spindle: Spindle,
+    /// The loaded tool, `None` if it is not in the tool table.
+    pub tool: Option<Tool>,
+    pub tool_number: u32,
+    /// The line of the call.
+    pub line: u32,
+}
+
+impl State {
+    /// The loaded tool, or an error a wizard can return as it is.
+    pub fn require_tool(&self) -> Result<&Tool, String> {
+        self.tool
+            .as_ref()
+            .ok_or_else(|| format!("tool T{} is not in the tool table, so its diameter is unknown", self.tool_number))
+    }
+}
+
+impl From<wit::Tool> for Tool {
+    fn from(t: wit::Tool) -> Tool {
+        Tool {
+            number: t.number,
+            kind: match t.kind {
+                wit::ToolKind::Endmill => ToolKind::Endmill,
+                wit::ToolKind::Ballmill => ToolKind::Ballmill,
+                wit::ToolKind::Drill => ToolKind::Drill,
+                wit::ToolKind::CenterDrill => ToolKind::CenterDrill,
+            },
+            diameter: t.diameter,
+            flute_length: t.flute_length,
+            tip_angle: t.tip_angle,
+        }
+    }
+}
+
+impl From<wit::MachineState> for State {
+    fn from(s: wit::MachineState) -> State {
+        State {
+            units: match s.units {
+                wit::Units::Mm => Units::Mm,
+                wit::Units::Inch => Units::Inch,
+            },
+            position: [s.x, s.y, s.z],
+            distance: match s.distance {
+                wit::Distance::Absolute => Distance::Absolute,
+                wit::Distance::Incremental => Distance::Incremental,
+            },
+            plane: match s.plane {
+                wit::Plane::Xy => Plane::XY,
+                wit::Plane::Zx => Plane::ZX,
+                wit::Plane::Yz => Plane::YZ,
+            },
+            feed: s.feed,
+            spindle: match s.spindle {
+                wit::Spindle::Off => Spindle::Off,
+                wit::Spindle::Clockwise(s) => Spindle::Clockwise(s),
+                wit::Spindle::CounterClockwise(s) => Spindle::CounterClockwise(s),
+            },
+            tool: s.tool.map(Tool::from),
+            tool_number: s.tool_number,
+            line: s.line,
+        }
+    }
+}

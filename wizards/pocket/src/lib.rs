@@ -1,0 +1,94 @@
+//! `Pocket LENGTH WIDTH DEPTH [STEPDOWN]`: clears a rectangular pocket.
+//!
+//! The pocket's lower-left corner is at the current XY and its top at the
+//! current Z. Each level (STEPDOWN apart, the last exactly at DEPTH) is
+//! cleared by a zigzag along X whose rows are at most 60% of the tool's
+//! diameter apart, then a finishing pass along the walls. The tool's centre
+//! stays inset from the walls by its radius, so it cuts exactly to them.
+//! Afterwards the tool is back at the call's position, in the call's modes.
+
+use ger_wizard_sdk::*;
+
+/// Rows of the zigzag are at most this fraction of the diameter apart, so
+/// neighbouring passes overlap and leave no ridges.
+const MAX_STEPOVER: f64 = 0.6;
+
+pub struct Pocket;
+
+impl Wizard for Pocket {
+    fn describe() -> Description {
+        Description::new(
+            "Pocket",
+            "clears a rectangular pocket from the current position (its lower-left corner, at its top)",
+            "Pocket LENGTH WIDTH DEPTH [STEPDOWN]",
+        )
+        .param("LENGTH", "size along X")
+        .param("WIDTH", "size along Y")
+        .param("DEPTH", "depth below the current Z")
+        .optional("STEPDOWN", "depth of cut per level (default: the tool's diameter)")
+    }
+
+    fn expand(args: &Args, state: &State) -> Result<Vec<Statement>, String> {
+        let length = args.positive(0)?;
+        let width = args.positive(1)?;
+        let depth = args.positive(2)?;
+        let tool = state.require_tool()?;
+        let stepdown = args.optional_positive(3)?.unwrap_or(tool.diameter);
+        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
+            return Err(format!("T{} is a drill; a pocket needs an end mill", tool.number));
+        }
+        let d = tool.diameter;
+        if d > length || d > width {
+            return Err(format!(
+                "the tool (T{}, diameter {d}) is wider than the pocket ({length} x {width})",
+                tool.number
+            ));
+        }
+        let feed = state.feed.ok_or("no feed rate is set: give an F before calling Pocket")?;
+        Ok(plan(state.position, [length, width, depth], stepdown, d, feed, state.distance))
+    }
+}
+
+/// The tool path; lengths in program units, `corner` the lower-left top corner.
+pub fn plan(corner: [f64; 3], size: [f64; 3], stepdown: f64, diameter: f64, feed: f64, distance: Distance) -> Vec<Statement> {
+    let [x0, y0, top] = corner;
+    let [length, width, depth] = size;
+    let r = diameter / 2.0;
+    let (xa, xb, ya, yb) = (x0 + r, x0 + length - r, y0 + r, y0 + width - r);
+    let levels = (depth / stepdown).ceil().max(1.0) as u32;
+    let rows = ((yb - ya) / (MAX_STEPOVER * diameter)).ceil() as u32 + 1;
+
+    let mut out = vec![comment(format!(
+        "Pocket {length} x {width} x {depth}: {levels} levels of {rows} rows, tool diameter {diameter}"
+    ))];
+    if distance == Distance::Incremental {
+        out.push(g(90).into());
+    }
+    out.push(g0().xy(xa, ya).into());
+    for level in 1..=levels {
+        // The last level lands exactly on DEPTH, whatever the rounding.
+        let z = if level == levels { top - depth } else { top - f64::from(level) * stepdown };
+        out.push(g1().z(z).f(feed).into());
+        for row in 0..rows {
+            let y = if rows == 1 { ya } else { ya + (yb - ya) * f64::from(row) / f64::from(rows - 1) };
+            if row > 0 {
+                out.push(g1().y(y).into());
+            }
+            out.push(g1().x(if row % 2 == 0 { xb } else { xa }).into());
+        }
+        // Finishing pass along the walls, from the start corner.
+        out.push(g1().xy(xa, ya).into());
+        out.push(g1().x(xb).into());
+        out.push(g1().y(yb).into());
+        out.push(g1().x(xa).into());
+        out.push(g1().y(ya).into());
+    }
+    out.push(g0().z(top).into());
+    out.push(g0().xy(x0, y0).into());
+    if distance == Distance::Incremental {
+        out.push(g(91).into());
+    }
+    out
+}
+
+export_wizard!(Pocket);
