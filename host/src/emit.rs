@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use crate::statement::{Axes, Kind, Offset, Side, Statement, Units, Value, WizardArg};
+use crate::statement::{Axes, Kind, Offset, Reference, Retract, Side, Statement, Units, Value, WizardArg};
 
 pub struct Emitter {
     decimals: usize,
@@ -98,6 +98,47 @@ impl Emitter {
             }
             Kind::Return => out.push_str("M99"),
             Kind::End => out.push_str("M30"),
+            Kind::Dwell(seconds) => {
+                out.push_str("G04");
+                self.value(out, 'P', Some(Value { value: *seconds, span: statement.span }));
+            }
+            Kind::SpindleSpeed(s) => {
+                let _ = write!(out, "S{s}");
+            }
+            Kind::ToolSelect(t) => {
+                let _ = write!(out, "T{t}");
+            }
+            Kind::NoEffect(code) => out.push_str(code),
+            Kind::CycleCancel => out.push_str("G80"),
+            Kind::CycleRetract(retract) => out.push_str(if *retract == Retract::Initial { "G98" } else { "G99" }),
+            Kind::Cycle(cycle) => {
+                out.push_str(cycle.code.code());
+                self.axes(out, "XYZ", &cycle.target);
+                self.value(out, 'R', cycle.r);
+                self.value(out, 'Q', cycle.q);
+                self.value(out, 'P', cycle.p);
+                if cycle.repeat != 1 {
+                    let _ = write!(out, " L{}", cycle.repeat);
+                }
+                self.value(out, 'F', cycle.feed);
+            }
+            Kind::Home { reference, via } => {
+                out.push_str(if *reference == Reference::Home { "G28" } else { "G30" });
+                self.axes(out, "XYZ", via);
+            }
+            Kind::MachineMove(m) => {
+                out.push_str("G53");
+                if let Some(mode) = m.mode {
+                    out.push(' ');
+                    out.push_str(mode.code());
+                }
+                self.axes(out, "XYZ", &m.target);
+                self.value(out, 'F', m.feed);
+            }
+            Kind::SetWorkOffset { entry, axes, relative } => {
+                let _ = write!(out, "G10 L{} P{entry}", if *relative { 20 } else { 2 });
+                self.axes(out, "XYZ", axes);
+            }
             Kind::Wizard { name, args } => {
                 out.push_str(name);
                 for arg in args {

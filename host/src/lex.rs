@@ -25,6 +25,8 @@ pub enum TokenKind {
     Comment(String),
     /// `;` or the end of a line.
     End,
+    /// `/` at the start of a line: block delete.
+    BlockDelete,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -169,7 +171,9 @@ impl<R: BufRead> Lexer<R> {
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
-                    if letters >= 2 {
+                    if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
+                        pos = self.refuse_rest_of_line(text, pos, ControlFlow);
+                    } else if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
                         self.push_token(TokenKind::Ident(name), pos, name_len);
                         in_wizard_args = true;
@@ -177,6 +181,13 @@ impl<R: BufRead> Lexer<R> {
                     } else {
                         pos = self.word(text, pos, first_on_line);
                     }
+                }
+                b'#' => pos = self.refuse_rest_of_line(text, pos, Parameters),
+                b'[' => pos = self.refuse_rest_of_line(text, pos, Expressions),
+                b'/' if first_on_line => {
+                    self.push_token(TokenKind::BlockDelete, pos, 1);
+                    pos += 1;
+                    continue;
                 }
                 _ => {
                     let len = text[pos..].chars().next().map_or(1, char::len_utf8);
@@ -219,6 +230,29 @@ impl<R: BufRead> Lexer<R> {
         }
         comment.body.push_str(&text[from..]);
         None
+    }
+
+    /// Macro programming ger does not have: one error for the line, which is
+    /// skipped (its other words mean nothing without the macro's values).
+    fn refuse_rest_of_line(&mut self, text: &str, start: usize, what: Unsupported) -> usize {
+        let end = text[start..].find('(').map_or(text.len(), |i| start + i);
+        let (message, help) = match what {
+            Parameters => (
+                "parameters (`#1`, `#<name>`) are not supported: ger has no variables",
+                "write the numbers out, or have a wizard compute them",
+            ),
+            Expressions => (
+                "expressions in `[ ]` are not supported: ger has no variables",
+                "write the numbers out, or have a wizard compute them",
+            ),
+            ControlFlow => (
+                "program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
+                "ger runs straight-line G-code with M98 subprograms; a wizard can generate what the program repeats",
+            ),
+        };
+        let span = self.span(start, text[start..end].trim_end().len());
+        self.push_diag(Diagnostic::error(span, message).with_help(help));
+        end
     }
 
     fn nested_comment(&mut self, col: usize) {
@@ -301,6 +335,41 @@ impl<R: BufRead> Lexer<R> {
     }
 }
 
+#[derive(Clone, Copy)]
+enum Unsupported {
+    Parameters,
+    Expressions,
+    ControlFlow,
+}
+use Unsupported::*;
+
+/// Fanuc macro B's and LinuxCNC's O-word control-flow keywords, maybe with a
+/// number glued on (`GOTO10`, `END1`).
+fn is_control_flow(name: &str) -> bool {
+    const KEYWORDS: [&str; 18] = [
+        "IF",
+        "GOTO",
+        "WHILE",
+        "DO",
+        "END",
+        "THEN",
+        "SUB",
+        "ENDSUB",
+        "CALL",
+        "ELSE",
+        "ELSEIF",
+        "ENDIF",
+        "ENDWHILE",
+        "REPEAT",
+        "ENDREPEAT",
+        "BREAK",
+        "CONTINUE",
+        "RETURN",
+    ];
+    let word = name.trim_end_matches(|c: char| c.is_ascii_digit()).to_ascii_uppercase();
+    KEYWORDS.contains(&word.as_str())
+}
+
 /// Length of the G-code number at the start of `s`: `[+-]digits[.digits]` or `[+-].digits`.
 fn number_len(s: &str) -> usize {
     let bytes = s.as_bytes();
@@ -360,6 +429,7 @@ mod tests {
                         TokenKind::Str(v) => format!("str {v:?}"),
                         TokenKind::Comment(v) => format!("comment {v:?}"),
                         TokenKind::End => "end".to_string(),
+                        TokenKind::BlockDelete => "/".to_string(),
                     };
                     format!("{}:{}+{} {kind}", s.line, s.col, s.len)
                 }
@@ -419,6 +489,26 @@ mod tests {
             ]
         );
         assert_eq!(tokens("Pocket 7 X1")[2], "1:10: error: wizard argument `X1` is neither a number nor a \"string\"");
+    }
+
+    #[test]
+    fn macro_programming_is_refused_once_a_line() {
+        assert_eq!(
+            tokens("#1=5 G01 X#1 (c)\nIF [#1 EQ 0] GOTO10\nN20 WHILE [#2 LT 3] DO1\nX1"),
+            [
+                "1:1: error: parameters (`#1`, `#<name>`) are not supported: ger has no variables",
+                "1:14+3 comment \"c\"",
+                "1:17+0 end",
+                "2:1: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
+                "2:20+0 end",
+                "3:5: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
+                "3:24+0 end",
+                "4:1+2 X1",
+                "4:3+0 end"
+            ]
+        );
+        assert_eq!(tokens("o100 sub")[1], "1:6: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported");
+        assert_eq!(tokens("/G01 X1")[0], "1:1+1 /");
     }
 
     #[test]

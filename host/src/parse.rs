@@ -9,7 +9,8 @@
 use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
-    Axes, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Side, Statement, Units, Value, WizardArg,
+    Axes, Cycle, CycleCode, Dialect, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference, Retract,
+    Side, Statement, Units, Value, WizardArg,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
@@ -42,13 +43,21 @@ enum Head {
 
 pub struct Parser<L> {
     tokens: L,
+    dialect: Dialect,
     group: Option<Group>,
+    /// A G53 with no words: it applies to the move that follows on its line.
+    pending_g53: Option<Span>,
     out: std::collections::VecDeque<Event>,
     done: bool,
 }
 
+/// Parses the GER manual's dialect.
 pub fn parse<L: Iterator<Item = Lexed>>(tokens: L) -> Parser<L> {
-    Parser { tokens, group: None, out: Default::default(), done: false }
+    parse_in(tokens, Dialect::Strict)
+}
+
+pub fn parse_in<L: Iterator<Item = Lexed>>(tokens: L, dialect: Dialect) -> Parser<L> {
+    Parser { tokens, dialect, group: None, pending_g53: None, out: Default::default(), done: false }
 }
 
 impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
@@ -66,7 +75,7 @@ impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
                 Some(Lexed::Token(token)) => self.token(token),
                 Some(Lexed::Diagnostic(diagnostic)) => self.out.push_back(Event::Diagnostic(diagnostic)),
                 None => {
-                    self.close();
+                    self.end_of_statement();
                     self.done = true;
                 }
             }
@@ -78,8 +87,14 @@ impl<L> Parser<L> {
     fn token(&mut self, token: Token) {
         let span = token.span;
         match token.kind {
-            TokenKind::End => self.close(),
+            TokenKind::End => self.end_of_statement(),
             TokenKind::Comment(_) => {}
+            // With the block-delete switch off, as controllers start, the block runs.
+            TokenKind::BlockDelete if self.dialect == Dialect::Lenient => {}
+            TokenKind::BlockDelete => self.out.push_back(Event::Diagnostic(
+                Diagnostic::error(span, "block delete (`/`) is not accepted")
+                    .with_help("remove the `/`; with --lenient the block runs, as with the block-delete switch off"),
+            )),
             TokenKind::Ident(name) => self.open(Head::Wizard { name, args: Vec::new() }, span),
             TokenKind::Number(n) => self.wizard_arg(WizardArg::Number(n), span),
             TokenKind::Str(s) => self.wizard_arg(WizardArg::Text(s), span),
@@ -110,40 +125,136 @@ impl<L> Parser<L> {
     }
 
     fn close(&mut self) {
-        let Some(mut group) = self.group.take() else { return };
-        // `G91 X20` is G91, then a move: words a code cannot take, but a move
-        // can, make a move of their own.
-        let mut then_move = None;
-        if let Head::Code { letter, value } = &group.head {
-            if !takes_axis_words(*letter, value.value) && group.words.iter().any(|(l, _)| ARC_WORDS.contains(*l)) {
-                let (moves, rest): (Vec<_>, Vec<_>) =
-                    std::mem::take(&mut group.words).into_iter().partition(|(l, _)| ARC_WORDS.contains(*l));
-                let span = moves[0].1.span.to(moves[moves.len() - 1].1.span);
-                group.span = rest.iter().fold(value.span, |span, (_, v)| span.to(v.span));
-                group.words = rest;
-                then_move = Some(Group { head: Head::Bare, span, words: moves });
+        let Some(group) = self.group.take() else { return };
+        for group in self.split(group) {
+            let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
+            match result {
+                Ok(Some(statement)) => self.out.push_back(Event::Statement(statement)),
+                Ok(None) => {}
+                Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
             }
         }
-        for group in std::iter::once(group).chain(then_move) {
-            let event = match classify(group) {
-                Ok(statement) => Event::Statement(statement),
-                Err(diagnostic) => Event::Diagnostic(diagnostic),
-            };
-            self.out.push_back(event);
+    }
+
+    /// At the end of a line (or `;`), a G53 still waiting for its move has none.
+    fn end_of_statement(&mut self) {
+        self.close();
+        if let Some(span) = self.pending_g53.take() {
+            let diagnostic = Diagnostic::error(span, "G53 with no move after it on its line")
+                .with_help("write the move on the same line, e.g. G53 G00 Z0");
+            self.out.push_back(Event::Diagnostic(diagnostic));
+        }
+    }
+
+    /// `G91 X20` is G91, then a move: words a code cannot take, but a move
+    /// can, make a move of their own. In the lenient dialect, S and T words
+    /// that their statement cannot take become statements of their own too.
+    fn split(&self, mut group: Group) -> Vec<Group> {
+        let mut groups = Vec::new();
+        let takes = |letter: char| match &group.head {
+            Head::Code { letter: code, value } => takes_word(*code, value.value, letter, self.dialect),
+            Head::Bare => ARC_WORDS.contains(letter),
+            Head::Wizard { .. } => true,
+        };
+        let mut move_words = Vec::new();
+        let mut kept = Vec::new();
+        for (letter, value) in std::mem::take(&mut group.words) {
+            if takes(letter) {
+                kept.push((letter, value));
+            } else if ARC_WORDS.contains(letter) && !matches!(group.head, Head::Bare) {
+                move_words.push((letter, value));
+            } else if self.dialect == Dialect::Lenient && matches!(letter, 'S' | 'T') {
+                groups.push(Group { head: Head::Bare, span: value.span, words: vec![(letter, value)] });
+            } else {
+                kept.push((letter, value));
+            }
+        }
+        if let Head::Code { value, .. } = &group.head {
+            group.span = kept.iter().fold(value.span, |span, (_, v)| span.to(v.span));
+        }
+        let alone = std::mem::take(&mut groups);
+        if !kept.is_empty() || !matches!(group.head, Head::Bare) {
+            group.words = kept;
+            groups.push(group);
+        }
+        if !move_words.is_empty() {
+            let span = move_words[0].1.span.to(move_words[move_words.len() - 1].1.span);
+            groups.push(Group { head: Head::Bare, span, words: move_words });
+        }
+        groups.extend(alone);
+        groups
+    }
+
+    /// G53 on its own applies to the move after it on the same line.
+    fn join_g53(&mut self, statement: Statement) -> Result<Option<Statement>, Diagnostic> {
+        let Statement { kind, span, origin } = statement;
+        match (kind, self.pending_g53.take()) {
+            (Kind::MachineMove(motion), None) if !motion.moves() => {
+                self.pending_g53 = Some(span);
+                Ok(None)
+            }
+            (Kind::Motion(motion), Some(g53)) if g53.line == span.line => {
+                Ok(Some(Statement { kind: Kind::MachineMove(motion), span: g53.to(span), origin }))
+            }
+            (kind, Some(g53)) => {
+                self.out.push_back(Event::Diagnostic(
+                    Diagnostic::error(g53, "G53 with no move after it on its line")
+                        .with_help("write the move on the same line, e.g. G53 G00 Z0"),
+                ));
+                self.join_g53(Statement { kind, span, origin })
+            }
+            (kind, None) => Ok(Some(Statement { kind, span, origin })),
         }
     }
 }
 
 /// Which words each kind of statement takes.
 const MOTION_WORDS: &str = "XYZF";
-
-/// The codes whose statements take X, Y or Z: moves, G43/G44, G52 and G92.
-fn takes_axis_words(letter: char, value: f64) -> bool {
-    letter == 'G' && [0.0, 1.0, 2.0, 3.0, 43.0, 44.0, 52.0, 92.0].contains(&value)
-}
 const ARC_WORDS: &str = "XYZIJKRF";
 
-fn classify(group: Group) -> Result<Statement, Diagnostic> {
+/// The words each code takes, by its number times ten (G61.1 is 611); `None`
+/// for a code the dialect does not know.
+fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str> {
+    let strict = match (letter, number) {
+        ('G', 0 | 10) => Some("XYZF"),
+        ('G', 20 | 30) => Some(ARC_WORDS),
+        ('G', 410 | 420) => Some("D"),
+        ('G', 430 | 440) => Some("ZH"),
+        ('G', 520 | 920) => Some("XYZ"),
+        ('G', 150 | 160 | 170 | 180 | 190 | 200 | 210 | 400 | 490 | 540 | 550 | 560 | 570 | 580 | 590 | 900 | 910) => {
+            Some("")
+        }
+        ('M', 30 | 40) => Some("S"),
+        ('M', 60) => Some("T"),
+        ('M', 980) => Some("PL"),
+        ('M', n) if n.is_multiple_of(10) && (n == 300 || n == 990 || Machine::from_number(n / 10).is_some()) => {
+            Some("")
+        }
+        ('O', _) => Some(""),
+        _ => None,
+    };
+    if strict.is_some() || dialect == Dialect::Strict {
+        return strict;
+    }
+    match (letter, number) {
+        ('G', 40) => Some("P"),
+        ('G', 100) => Some("LPXYZ"),
+        ('G', 280 | 300) => Some("XYZ"),
+        ('G', 530) => Some("XYZF"),
+        ('G', 640) => Some("PQ"),
+        ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Some("XYZRQPLKF"),
+        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20) => Some(""),
+        _ => None,
+    }
+}
+
+/// Whether the statement of code `letter value` keeps a `word`. A code ger
+/// does not know keeps them all, so its error is about the code.
+fn takes_word(letter: char, value: f64, word: char, dialect: Dialect) -> bool {
+    code_number(value).and_then(|n| words_of(letter, n, dialect)).is_none_or(|words| words.contains(word))
+}
+
+fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
     let span = group.span;
     let words = Words::new(group.words)?;
     let kind = match group.head {
@@ -152,19 +263,31 @@ fn classify(group: Group) -> Result<Statement, Diagnostic> {
             if let Some((letter, value)) = words.list.iter().find(|(l, _)| !KNOWN_LETTERS.contains(*l)) {
                 return Err(unknown_letter(*letter, value.span));
             }
-            if words.has_any(ARC_WORDS) {
-                words.only(ARC_WORDS, "a move")?;
-                Kind::Motion(Box::new(motion(None, &words)?))
-            } else {
-                return Err(stray_word(&words));
+            match words.list[0] {
+                _ if words.has_any(ARC_WORDS) => {
+                    words.only(ARC_WORDS, "a move")?;
+                    Kind::Motion(Box::new(motion(None, &words)?))
+                }
+                // The lenient split leaves S and T alone in their statements.
+                ('S', s) if dialect == Dialect::Lenient => Kind::SpindleSpeed(speed(s)?),
+                ('T', _) if dialect == Dialect::Lenient => Kind::ToolSelect(words.whole('T')?.unwrap_or(0)),
+                _ => return Err(stray_word(&words)),
             }
         }
-        Head::Code { letter, value } => code(letter, value, &words)?,
+        Head::Code { letter, value } => code(letter, value, &words, dialect)?,
     };
     Ok(Statement::new(kind, span))
 }
 
-fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
+fn speed(s: Value) -> Result<f64, Diagnostic> {
+    if s.value < 0.0 {
+        return Err(Diagnostic::error(s.span, "spindle speed cannot be negative")
+            .with_help("M03 turns clockwise, M04 counter-clockwise; S is the speed"));
+    }
+    Ok(s.value)
+}
+
+fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<Kind, Diagnostic> {
     let span = value.span;
     let name = code_name(letter, value.value);
     let number = code_number(value.value)
@@ -248,9 +371,109 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
                 _ => no_words(Kind::Machine { code, s: None, t: None })?,
             }
         }
-        _ => return Err(omitted_or_unknown(letter, number, &name, span)),
+        _ if dialect == Dialect::Lenient => lenient_code(letter, number, &name, span, words)?,
+        _ => {
+            let mut diagnostic = omitted_or_unknown(letter, number, &name, span);
+            if words_of(letter, number, Dialect::Lenient).is_some() {
+                let help = diagnostic.help.take().unwrap_or_default();
+                diagnostic.help = Some(format!("{help}; or run with --lenient, which accepts {name}"));
+            }
+            return Err(diagnostic);
+        }
     };
     Ok(kind)
+}
+
+/// The codes only the lenient dialect accepts.
+fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words) -> Result<Kind, Diagnostic> {
+    if let Some(allowed) = words_of(letter, number, Dialect::Lenient) {
+        words.only(allowed, name)?;
+    }
+    let kind = match (letter, number) {
+        ('M', 20) => Kind::End,
+        ('G', 40) => {
+            let p = words.get('P').ok_or_else(|| {
+                Diagnostic::error(span, "G04 needs a P word: the dwell in seconds").with_help("write e.g. G04 P0.5")
+            })?;
+            if p.value < 0.0 {
+                return Err(Diagnostic::error(p.span, "a dwell cannot be negative"));
+            }
+            Kind::Dwell(p.value)
+        }
+        ('G', 610) => Kind::NoEffect("G61"),
+        ('G', 611) => Kind::NoEffect("G61.1"),
+        ('G', 640) => Kind::NoEffect("G64"),
+        ('G', 911) => Kind::NoEffect("G91.1"),
+        ('G', 940) => Kind::NoEffect("G94"),
+        ('G', 800) => Kind::CycleCancel,
+        ('G', 980) => Kind::CycleRetract(Retract::Initial),
+        ('G', 990) => Kind::CycleRetract(Retract::RPlane),
+        ('G', 280) => Kind::Home { reference: Reference::Home, via: words.axes("XYZ") },
+        ('G', 300) => Kind::Home { reference: Reference::Second, via: words.axes("XYZ") },
+        ('G', 530) => Kind::MachineMove(Box::new(motion(None, words)?)),
+        ('G', 100) => {
+            let relative =
+                match words.whole('L')? {
+                    Some(2) => false,
+                    Some(20) => true,
+                    _ => return Err(Diagnostic::error(span, "G10 sets work offsets with L2 or L20 only").with_help(
+                        "G10 L2 P1 X.. Y.. Z.. sets G54's origin; G10 L20 P1 X.. makes the current position read X..",
+                    )),
+                };
+            let entry = match words.whole('P')? {
+                Some(p) if p <= 6 => p as u8,
+                _ => {
+                    return Err(Diagnostic::error(span, "G10 needs P0 (the offset in force) to P6 (G59)")
+                        .with_help("P1 is G54, P2 G55, ... P6 G59"))
+                }
+            };
+            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative }
+        }
+        ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Kind::Cycle(Box::new(cycle(number, span, words)?)),
+        _ => return Err(lenient_refusal(letter, number, name, span)),
+    };
+    Ok(kind)
+}
+
+fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
+    let code = match number {
+        730 => CycleCode::ChipBreak,
+        810 => CycleCode::Drill,
+        820 => CycleCode::DrillDwell,
+        830 => CycleCode::Peck,
+        850 => CycleCode::Bore,
+        860 => CycleCode::BoreSpindleStop,
+        _ => CycleCode::BoreDwell,
+    };
+    let repeat = match (words.whole('L')?, words.whole('K')?) {
+        (Some(_), Some(_)) => {
+            return Err(Diagnostic::error(span, "a cycle takes L or K (repeats), not both"));
+        }
+        (l, k) => l.or(k).unwrap_or(1),
+    };
+    let q = words.get('Q');
+    if let Some(q) = q.filter(|q| q.value <= 0.0) {
+        return Err(Diagnostic::error(q.span, "the peck depth Q must be greater than zero"));
+    }
+    if let Some(f) = words.get('F').filter(|f| f.value <= 0.0) {
+        return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
+    }
+    Ok(Cycle { code, target: words.axes("XYZ"), r: words.get('R'), q, p: words.get('P'), repeat, feed: words.get('F') })
+}
+
+/// What the lenient dialect still refuses, with why.
+fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnostic {
+    let why = match (letter, number) {
+        ('G', 740 | 840) => "tapping cycles need the spindle synchronised with the feed, which ger does not model",
+        ('G', 760 | 870 | 880) => "this boring cycle differs too much between controllers",
+        ('G', 930) => "inverse-time feed (G93) is not supported: feeds are per minute",
+        ('G', 901) => "absolute arc centres (G90.1) are not supported: ger's I/J/K are relative to the start",
+        ('G', 380..=389) | ('G', 310) => "probing needs a real machine",
+        ('G', 650 | 660 | 670) => "Fanuc macro calls are not supported",
+        ('M', 470) => "repeating the whole program is not supported; use a subprogram with M98 P.. L..",
+        _ => return omitted_or_unknown(letter, number, name, span),
+    };
+    Diagnostic::error(span, format!("{name} is not accepted: {why}"))
 }
 
 fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic> {
@@ -312,8 +535,8 @@ fn omitted_or_unknown(letter: char, number: u32, name: &str, span: Span) -> Diag
 fn stray_word(words: &Words) -> Diagnostic {
     let (letter, value) = words.list[0];
     let (message, help) = match letter {
-        'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000"),
-        'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2"),
+        'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000, or run with --lenient"),
+        'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2, or run with --lenient"),
         'P' | 'L' => ("P and L words go with M98", "write e.g. M98 P100 L2"),
         'H' => ("an H word goes with G43 or G44", "write e.g. G43 H1"),
         'D' => ("a D word goes with G41 or G42", "write e.g. G41 D1"),

@@ -194,7 +194,9 @@ fn rs274_moves(program: &Path, table: &[[f64; 3]]) -> Vec<Move> {
         }
     }
     std::fs::write(&var, text).unwrap();
-    let output = Command::new("rs274").arg("-g").arg("-v").arg(&var).arg(program).output().unwrap();
+    // rs274 truncates $HOME/.tool.mmap when it starts: a home of its own keeps runs apart.
+    let output =
+        Command::new("rs274").env("HOME", scratch.path()).arg("-g").arg("-v").arg(&var).arg(program).output().unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(

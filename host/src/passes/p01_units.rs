@@ -58,8 +58,20 @@ impl Pass for Units {
                 scale(&mut m.radius);
                 scale(&mut m.feed);
             }
-            Kind::Offset { axes, .. } => *axes = axes.map(|_, v| v * factor),
+            Kind::Offset { axes, .. } | Kind::SetWorkOffset { axes, .. } | Kind::Home { via: axes, .. } => {
+                *axes = axes.map(|_, v| v * factor)
+            }
             Kind::ToolLength { z, .. } => scale(z),
+            Kind::MachineMove(m) => {
+                m.target = m.target.map(|_, v| v * factor);
+                scale(&mut m.feed);
+            }
+            Kind::Cycle(cycle) => {
+                cycle.target = cycle.target.map(|_, v| v * factor);
+                scale(&mut cycle.r);
+                scale(&mut cycle.q);
+                scale(&mut cycle.feed);
+            }
             _ => {}
         }
         out.push(statement);

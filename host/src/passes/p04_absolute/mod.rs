@@ -10,7 +10,9 @@ use super::{Out, Pass};
 use crate::diag::{Diagnostic, Span};
 use crate::geom::{centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
-use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Statement, Units, Value};
+use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Units, Value};
+
+mod cycles;
 
 pub struct Absolute {
     units: Units,
@@ -21,10 +23,17 @@ pub struct Absolute {
     /// The feed the output last said, so F is written only when it changes.
     feed_written: Option<f64>,
     probe: Probe,
+    /// G30's point, in machine coordinates.
+    second_reference: [f64; 3],
+    /// The lenient dialect's S and T words alone: a speed and a tool waiting
+    /// for the M03/M04 and M06 that use them.
+    speed: Option<f64>,
+    selected_tool: Option<u32>,
+    cycles: cycles::CycleState,
 }
 
 impl Absolute {
-    pub fn new(units: Units, probe: Probe) -> Absolute {
+    pub fn new(units: Units, second_reference: [f64; 3], probe: Probe) -> Absolute {
         Absolute {
             units,
             distance: Distance::Absolute,
@@ -33,6 +42,10 @@ impl Absolute {
             feed: None,
             feed_written: None,
             probe,
+            second_reference,
+            speed: None,
+            selected_tool: None,
+            cycles: cycles::CycleState::default(),
         }
     }
 
@@ -156,6 +169,12 @@ impl Pass for Absolute {
 
 impl Absolute {
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
+        if let Kind::Cycle(cycle) = &statement.kind {
+            if let Err(diagnostic) = self.cycle(cycle, &statement, out) {
+                out.error(&statement, diagnostic);
+            }
+            return;
+        }
         match &mut statement.kind {
             Kind::Distance(distance) => {
                 self.distance = *distance;
@@ -173,6 +192,14 @@ impl Absolute {
                 self.position[2] = z.value;
             }
             Kind::Machine { code, s, t } => {
+                // A speed or tool given alone before (lenient dialect) is used here.
+                if matches!(code, Machine::SpindleCw | Machine::SpindleCcw) {
+                    *s = s.or(self.speed);
+                    self.speed = *s;
+                }
+                if *code == Machine::ToolChange {
+                    *t = t.or(self.selected_tool.take());
+                }
                 let mut probe = self.probe.borrow_mut();
                 match code {
                     Machine::SpindleCw => probe.spindle = Spindle::Clockwise(*s),
@@ -182,9 +209,91 @@ impl Absolute {
                     _ => {}
                 }
             }
+            Kind::SpindleSpeed(speed) => {
+                self.speed = Some(*speed);
+                // A new speed while the spindle turns is said with its direction.
+                let code = match self.probe.borrow().spindle {
+                    Spindle::Clockwise(_) => Machine::SpindleCw,
+                    Spindle::CounterClockwise(_) => Machine::SpindleCcw,
+                    Spindle::Off => return,
+                };
+                let kind = Kind::Machine { code, s: Some(*speed), t: None };
+                return self.rewrite(statement.with_kind(kind), out);
+            }
+            Kind::ToolSelect(tool) => {
+                self.selected_tool = Some(*tool);
+                return;
+            }
+            Kind::CycleRetract(retract) => {
+                self.cycles.retract = *retract;
+                return;
+            }
+            Kind::Home { reference, via } => {
+                let (reference, via) = (*reference, *via);
+                return self.home(reference, via, &statement, out);
+            }
+            Kind::MachineMove(motion) => {
+                // Machine coordinates are absolute whatever G90/G91 says.
+                let distance = std::mem::replace(&mut self.distance, Distance::Absolute);
+                let result = self.motion(motion, statement.span);
+                self.distance = distance;
+                let motion = std::mem::take(motion);
+                match result {
+                    Ok(true) => return out.push(statement.with_kind(Kind::Motion(motion))),
+                    Ok(false) => return,
+                    Err(diagnostic) => return out.error(&statement, diagnostic),
+                }
+            }
             _ => {}
         }
         out.push(statement);
+    }
+
+    /// A rapid move to `target` (machine coordinates), if it goes anywhere.
+    fn rapid_to(&mut self, target: [f64; 3], statement: &Statement, out: &mut Out) {
+        self.move_to(MotionMode::Rapid, target, statement, out);
+    }
+
+    /// A straight move in machine coordinates, written only when it moves.
+    fn move_to(&mut self, mode: MotionMode, target: [f64; 3], statement: &Statement, out: &mut Out) {
+        let mut motion = Motion { mode: Some(mode), ..Motion::default() };
+        for (axis, (&to, &from)) in target.iter().zip(&self.position).enumerate() {
+            if to != from {
+                *motion.target.slot(axis) = Some(Value { value: to, span: statement.span });
+            }
+        }
+        if !motion.moves() {
+            return;
+        }
+        if mode != MotionMode::Rapid && self.feed != self.feed_written {
+            self.feed_written = self.feed;
+            motion.feed = self.feed.map(|value| Value { value, span: statement.span });
+        }
+        self.position = target;
+        out.push(statement.with_kind(Kind::Motion(Box::new(motion))));
+    }
+
+    /// G28/G30: through the intermediate point, then to the reference, for
+    /// the axes given (all three if none).
+    fn home(&mut self, reference: Reference, via: Axes, statement: &Statement, out: &mut Out) {
+        let mut through = self.position;
+        for (axis, through) in through.iter_mut().enumerate() {
+            if let Some(v) = via.get(axis) {
+                *through = self.absolute(axis, v).value;
+            }
+        }
+        self.rapid_to(through, statement, out);
+        let point = match reference {
+            Reference::Home => [0.0; 3],
+            Reference::Second => self.second_reference,
+        };
+        let mut target = through;
+        for axis in 0..3 {
+            if via.is_empty() || via.get(axis).is_some() {
+                target[axis] = point[axis];
+            }
+        }
+        self.rapid_to(target, statement, out);
     }
 }
 
