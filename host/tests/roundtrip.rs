@@ -53,13 +53,14 @@ fn feed() -> impl Strategy<Value = String> {
 
 /// One arc in incremental mode, in one of the three planes, by I/J/K or R.
 fn arc() -> impl Strategy<Value = String> {
-    (0usize..3, any::<bool>(), any::<bool>(), 1i32..100_000, 0.0f64..360.0, 0.0f64..360.0, -50_000i32..50_000, feed())
+    (0usize..3, any::<bool>(), any::<bool>(), 100i32..100_000, 0.0f64..360.0, 0.0f64..360.0, -50_000i32..50_000, feed())
         .prop_map(|(plane, clockwise, by_radius, radius, from, sweep, normal, feed)| {
             let (code, [first, second, normal_letter], [first_centre, second_centre]) = [
                 ("G17", ['X', 'Y', 'Z'], ['I', 'J']),
                 ("G18", ['Z', 'X', 'Y'], ['K', 'I']),
                 ("G19", ['Y', 'Z', 'X'], ['J', 'K']),
             ][plane];
+            // At least 0.1: below the arc tolerance (0.01 mm) a radius counts as zero.
             let r = f64::from(radius) / 1000.0;
             let (from, to) = (from.to_radians(), (from + sweep.max(1.0)).to_radians());
             // Start and end on a circle about the origin; the move is their difference.
@@ -105,6 +106,11 @@ fn program() -> impl Strategy<Value = String> {
     )
 }
 
+fn seed() -> proptest::test_runner::RngSeed {
+    let fixed = std::env::var("PROPTEST_RNG_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(0x6765_7220);
+    proptest::test_runner::RngSeed::Fixed(fixed)
+}
+
 fn machines() -> impl Strategy<Value = Config> {
     prop_oneof![Just(Units::Inch), Just(Units::Mm)].prop_map(|units| Config {
         units,
@@ -119,7 +125,13 @@ fn machines() -> impl Strategy<Value = Config> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+    // A fixed seed: the same 300 programs every run, so CI is repeatable.
+    // PROPTEST_RNG_SEED=<n> explores others.
+    #![proptest_config(ProptestConfig {
+        cases: 300,
+        rng_seed: seed(),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn the_output_translates_to_itself(program in program(), config in machines()) {
