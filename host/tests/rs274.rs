@@ -6,6 +6,11 @@
 //! one. rs274 reports positions relative to the active offsets and in the
 //! program's current unit, so its offsets and unit changes are followed here.
 //!
+//! Programs in `tests/differential/lenient/` use the lenient dialect's codes
+//! (canned cycles, G28/G30, G53, G10) and are run with `--lenient`; there
+//! dwells and spindle starts and stops are compared too. LinuxCNC writes
+//! zero-length moves that ger leaves out, so those are not compared.
+//!
 //! rs274 comes from Debian's `linuxcnc-uspace`. Where it is not installed the
 //! test says so and passes, except under CI (the `CI` variable), where a
 //! missing peer is a failure: CI installs it.
@@ -24,6 +29,9 @@ enum Kind {
         centre: [f64; 3],
         turn: i32,
     },
+    Dwell(f64),
+    /// +1 clockwise, -1 counter-clockwise, 0 stopped.
+    Spindle(i32),
 }
 
 #[derive(Debug)]
@@ -68,18 +76,25 @@ fn ger_moves_like_rs274() {
         return;
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/differential");
-    let table = work_offsets(&dir.join("ger.toml"));
-    let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
-        .collect();
-    programs.sort();
-    assert!(programs.len() >= 5, "the differential programs are missing");
+    let config = dir.join("ger.toml");
+    let machine = machine(&config);
+    let programs_in = |dir: &Path| -> Vec<PathBuf> {
+        let mut programs: Vec<PathBuf> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+            .collect();
+        programs.sort();
+        programs
+    };
+    let strict = programs_in(&dir);
+    let lenient = programs_in(&dir.join("lenient"));
+    assert!(strict.len() >= 5 && lenient.len() >= 2, "the differential programs are missing");
+    let runs = strict.iter().map(|p| (p, false)).chain(lenient.iter().map(|p| (p, true)));
     let mut failures = Vec::new();
-    for program in &programs {
-        let ger = ger_moves(program);
-        let peer = rs274_moves(program, &table);
+    for (program, is_lenient) in runs {
+        let ger = moving(ger_moves(program, &config, is_lenient));
+        let peer = moving(rs274_moves(program, &machine));
         if let Err(problem) = compare(&ger, &peer) {
             failures.push(format!("{}: {problem}", program.file_name().unwrap().to_string_lossy()));
         } else {
@@ -87,6 +102,24 @@ fn ger_moves_like_rs274() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Drops moves that go nowhere: LinuxCNC writes some (a retract to where the
+/// tool is), ger does not.
+fn moving(moves: Vec<Move>) -> Vec<Move> {
+    let mut at = [0.0; 3];
+    let mut kept = Vec::new();
+    for m in moves {
+        let stays =
+            matches!(m.kind, Kind::Rapid | Kind::Feed) && m.end.iter().zip(at).all(|(a, b)| (a - b).abs() < 1e-9);
+        if !m.end[0].is_nan() {
+            at = m.end;
+        }
+        if !stays {
+            kept.push(m);
+        }
+    }
+    kept
 }
 
 fn compare(ger: &[Move], peer: &[Move]) -> Result<(), String> {
@@ -103,7 +136,10 @@ fn compare(ger: &[Move], peer: &[Move]) -> Result<(), String> {
             (Some(a), Some(b)) => (a - b).abs() <= TOLERANCE_MM,
             (a, b) => a.is_none() && b.is_none(),
         };
-        if !same_kind || !close(&g.end, &p.end) || !same_feed {
+        let same_end = g.end[0].is_nan() && p.end[0].is_nan() || close(&g.end, &p.end);
+        let same_kind =
+            same_kind || matches!((&g.kind, &p.kind), (Kind::Dwell(a), Kind::Dwell(b)) if (a - b).abs() < 1e-9);
+        if !same_kind || !same_end || !same_feed {
             let show = |m: &Move| format!("{}\n      -> {:?}, end {:?}, feed {:?}", m.source, m.kind, m.end, m.feed);
             return Err(format!("moves differ:\n  {}\n  {}", show(g), show(p)));
         }
@@ -111,21 +147,25 @@ fn compare(ger: &[Move], peer: &[Move]) -> Result<(), String> {
     Ok(())
 }
 
-/// The G54..G59 table of a ger.toml, in mm (the tests' machine is in mm).
-fn work_offsets(config: &Path) -> Vec<[f64; 3]> {
+/// The machine of a ger.toml, in mm (the tests' machine is in mm): the
+/// G54..G59 table, then the G30 point.
+fn machine(config: &Path) -> Vec<[f64; 3]> {
     let text = std::fs::read_to_string(config).unwrap();
     let value: toml::Value = toml::from_str(&text).unwrap();
     assert_eq!(value["units"].as_str(), Some("mm"));
-    (54..=59)
-        .map(|n| {
-            let entry = &value["offsets"][&format!("G{n}")];
-            std::array::from_fn(|i| entry[i].as_float().unwrap())
-        })
-        .collect()
+    let triple = |entry: &toml::Value| -> [f64; 3] { std::array::from_fn(|i| entry[i].as_float().unwrap()) };
+    let mut rows: Vec<[f64; 3]> = (54..=59).map(|n| triple(&value["offsets"][&format!("G{n}")])).collect();
+    rows.push(triple(&value["machine"]["g30"]));
+    rows
 }
 
-fn ger_moves(program: &Path) -> Vec<Move> {
-    let output = Command::new(env!("CARGO_BIN_EXE_ger")).arg("run").arg(program).output().unwrap();
+fn ger_moves(program: &Path, config: &Path, lenient: bool) -> Vec<Move> {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
+    command.arg("run").arg(program).arg("--config").arg(config);
+    if lenient {
+        command.arg("--lenient");
+    }
+    let output = command.output().unwrap();
     let stdout = String::from_utf8(output.stdout).unwrap();
     assert!(
         output.status.success(),
@@ -148,7 +188,13 @@ fn ger_moves(program: &Path) -> Vec<Move> {
         if let Some(f) = word('F') {
             feed = Some(f);
         }
+        let event = |kind: Kind| Move { kind, end: [f64::NAN; 3], feed: None, source: format!("ger: {line}") };
         match code {
+            ('G', 4.0) => moves.push(event(Kind::Dwell(word('P').unwrap()))),
+            ('M', 3.0) => moves.push(event(Kind::Spindle(1))),
+            ('M', 4.0) => moves.push(event(Kind::Spindle(-1))),
+            // M30 stops the spindle, as LinuxCNC's canonical output says.
+            ('M', 5.0) | ('M', 30.0) => moves.push(event(Kind::Spindle(0))),
             ('G', 17.0) => plane = Plane::XY,
             ('G', 18.0) => plane = Plane::ZX,
             ('G', 19.0) => plane = Plane::YZ,
@@ -182,17 +228,23 @@ fn ger_moves(program: &Path) -> Vec<Move> {
     moves
 }
 
-fn rs274_moves(program: &Path, table: &[[f64; 3]]) -> Vec<Move> {
+fn rs274_moves(program: &Path, machine: &[[f64; 3]]) -> Vec<Move> {
     // rs274 reads the offsets table from a var file, in inches, and writes it
     // back when it exits: give it a fresh one each time.
     let scratch = tempfile::tempdir().unwrap();
     let var = scratch.path().join("ger.var");
     let mut text = String::new();
+    let (table, g30) = machine.split_at(6);
+    // rs274 wants its parameters in ascending order: G30's point (5181..) first.
+    for (axis, value) in g30[0].iter().enumerate() {
+        text.push_str(&format!("{}\t{:.6}\n", 5181 + axis, value / 25.4));
+    }
     for (i, entry) in table.iter().enumerate() {
         for (axis, value) in entry.iter().enumerate() {
             text.push_str(&format!("{}\t{:.6}\n", 5221 + 20 * i + axis, value / 25.4));
         }
     }
+
     std::fs::write(&var, text).unwrap();
     // rs274 truncates $HOME/.tool.mmap when it starts: a home of its own keeps runs apart.
     let output =
@@ -241,6 +293,19 @@ fn rs274_moves(program: &Path, table: &[[f64; 3]]) -> Vec<Move> {
                 }
             }
             "SET_FEED_RATE" => feed = Some(number(0) * mm_per_unit),
+            "DWELL" => {
+                moves.push(Move { kind: Kind::Dwell(number(0)), end: [f64::NAN; 3], feed: None, source: call.into() })
+            }
+            "START_SPINDLE_CLOCKWISE" | "START_SPINDLE_COUNTERCLOCKWISE" | "STOP_SPINDLE_TURNING" => {
+                let turn = match name {
+                    "START_SPINDLE_CLOCKWISE" => 1,
+                    "START_SPINDLE_COUNTERCLOCKWISE" => -1,
+                    _ => 0,
+                };
+                moves.push(Move { kind: Kind::Spindle(turn), end: [f64::NAN; 3], feed: None, source: call.into() });
+            }
+            // What follows the end (a spindle stop, resets) is LinuxCNC's, not the program's.
+            "PROGRAM_END" => break,
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
                 let end = machine([number(0), number(1), number(2)], &g5x, &g92);
                 let (kind, feed) = if name == "STRAIGHT_TRAVERSE" { (Kind::Rapid, None) } else { (Kind::Feed, feed) };
