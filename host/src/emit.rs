@@ -71,7 +71,9 @@ impl Emitter {
             Kind::ToolLength { positive, z, h } => {
                 out.push_str(if *positive { "G43" } else { "G44" });
                 self.value(out, 'Z', *z);
-                let _ = write!(out, " H{h}");
+                if let Some(h) = h {
+                    let _ = write!(out, " H{h}");
+                }
             }
             Kind::ToolLengthCancel => out.push_str("G49"),
             Kind::CutterComp { side, d } => {

@@ -8,6 +8,7 @@
 use std::io::BufRead;
 
 use crate::diag::{Diagnostic, Span};
+use crate::statement::Dialect;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum TokenKind {
@@ -63,11 +64,28 @@ pub struct Lexer<R> {
     /// Set while a comment is open across lines.
     open_comment: Option<OpenComment>,
     done: bool,
+    lenient: bool,
 }
 
 impl<R: BufRead> Lexer<R> {
     pub fn new(reader: R) -> Lexer<R> {
-        Lexer { reader, raw: Vec::new(), line_no: 0, pending: Default::default(), open_comment: None, done: false }
+        Lexer::in_dialect(reader, Dialect::Strict)
+    }
+
+    /// The lenient dialect also reads `X 1.5` (a space in a word, as LinuxCNC
+    /// does) and `;` starting a line or followed by prose as a comment to the
+    /// end of the line (as Haas and LinuxCNC do); `G01 X1; Y2` still ends a
+    /// statement at the `;`.
+    pub fn in_dialect(reader: R, dialect: Dialect) -> Lexer<R> {
+        Lexer {
+            reader,
+            raw: Vec::new(),
+            line_no: 0,
+            pending: Default::default(),
+            open_comment: None,
+            done: false,
+            lenient: dialect == Dialect::Lenient,
+        }
     }
 
     fn read_line(&mut self) -> bool {
@@ -104,7 +122,9 @@ impl<R: BufRead> Lexer<R> {
 
     fn lex_line(&mut self) {
         let line = std::mem::take(&mut self.raw);
-        let text = match std::str::from_utf8(&line) {
+        // A byte-order mark, left by some Windows editors, is not part of the program.
+        let body = if self.line_no == 1 { line.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&line) } else { &line };
+        let text = match std::str::from_utf8(body) {
             Ok(text) => text,
             Err(err) => {
                 let col = err.valid_up_to();
@@ -141,6 +161,11 @@ impl<R: BufRead> Lexer<R> {
             let c = bytes[pos];
             match c {
                 b' ' | b'\t' | b'\x0c' => pos += 1,
+                b';' if self.lenient && (first_on_line || !is_gcode(&text[pos + 1..])) => {
+                    let comment = text[pos + 1..].trim().to_string();
+                    self.push_token(TokenKind::Comment(comment), pos, bytes.len() - pos);
+                    pos = bytes.len();
+                }
                 b';' => {
                     self.push_token(TokenKind::End, pos, 1);
                     in_wizard_args = false;
@@ -291,6 +316,19 @@ impl<R: BufRead> Lexer<R> {
     /// number meant (`X -1.5`, `Y-`), so one slip gives one error.
     fn word_without_number(&mut self, text: &str, start: usize, letter: char) -> usize {
         let rest = &text[start + 1..];
+        // `R[...]` and `X#1` are refused as expressions and parameters, once.
+        if rest.trim_start().starts_with(['[', '#']) {
+            return start + 1 + (rest.len() - rest.trim_start().len());
+        }
+        if self.lenient {
+            let spaces = rest.len() - rest.trim_start_matches([' ', '\t']).len();
+            let number = number_len(&rest[spaces..]);
+            if let (true, Ok(value)) = (number > 0 && spaces > 0, rest[spaces..spaces + number].parse::<f64>()) {
+                let letter = letter.to_ascii_uppercase();
+                self.push_token(TokenKind::Word { letter, value }, start, 1 + spaces + number);
+                return start + 1 + spaces + number;
+            }
+        }
         let junk = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit() || " \t+-.".contains(c)).len();
         let len = 1 + rest[..junk].trim_end().len();
         let message = format!("`{letter}` must be followed by a number");
@@ -368,6 +406,22 @@ fn is_control_flow(name: &str) -> bool {
     ];
     let word = name.trim_end_matches(|c: char| c.is_ascii_digit()).to_ascii_uppercase();
     KEYWORDS.contains(&word.as_str())
+}
+
+/// Whether `rest` reads as G-code: words (`X1.5`, `G01`), comments, or nothing.
+fn is_gcode(rest: &str) -> bool {
+    let mut rest = rest.trim_start();
+    while let Some(c) = rest.chars().next() {
+        if c == '(' {
+            let Some(end) = rest.find(')') else { return false };
+            rest = rest[end + 1..].trim_start();
+        } else if c.is_ascii_alphabetic() && number_len(&rest[1..]) > 0 {
+            rest = rest[1 + number_len(&rest[1..])..].trim_start();
+        } else {
+            return c == ';';
+        }
+    }
+    true
 }
 
 /// Length of the G-code number at the start of `s`: `[+-]digits[.digits]` or `[+-].digits`.
@@ -512,6 +566,32 @@ mod tests {
     }
 
     #[test]
+    fn the_lenient_dialect_reads_spaced_words_and_semicolon_comments() {
+        let lenient = |text: &str| -> Vec<String> {
+            Lexer::in_dialect(text.as_bytes(), Dialect::Lenient)
+                .map(|item| match item {
+                    Lexed::Token(t) => format!("{}:{} {:?}", t.span.line, t.span.col, t.kind),
+                    Lexed::Diagnostic(d) => d.to_string(),
+                })
+                .collect()
+        };
+        assert_eq!(
+            lenient("X -0.25 y 2; IESI Project 2: drilling"),
+            [
+                "1:1 Word { letter: 'X', value: -0.25 }",
+                "1:9 Word { letter: 'Y', value: 2.0 }",
+                "1:12 Comment(\"IESI Project 2: drilling\")",
+                "1:38 End"
+            ]
+        );
+        // G-code after the `;` is still a statement of its own.
+        assert_eq!(lenient("X1; Y2")[1], "1:3 End");
+        // The strict dialect keeps the manual's rules.
+        assert_eq!(tokens("X -0.25")[0], "1:1: error: `X` must be followed by a number");
+        assert_eq!(tokens("\u{feff}%\nX1")[1], "2:1+2 X1");
+    }
+
+    #[test]
     fn malformed_numbers_are_diagnosed() {
         assert_eq!(tokens("X1.2.3")[0], "1:1: error: malformed number in `X1.2.3`");
         assert_eq!(tokens("X - 1"), ["1:1: error: `X` must be followed by a number", "1:6+0 end"]);
@@ -519,7 +599,11 @@ mod tests {
             tokens("G00 Y- X1")[1..],
             ["1:5: error: `Y` must be followed by a number", "1:8+2 X1", "1:10+0 end"]
         );
-        assert_eq!(tokens("G01 X#1")[1], "1:5: error: `X` must be followed by a number");
+        // A parameter in place of the number is one error, about the parameter.
+        assert_eq!(
+            tokens("G01 X#1")[1..],
+            ["1:6: error: parameters (`#1`, `#<name>`) are not supported: ger has no variables", "1:8+0 end"]
+        );
         assert_eq!(tokens("G01 @")[1], "1:5: error: unexpected `@`");
     }
 }

@@ -47,6 +47,8 @@ pub struct Parser<L> {
     group: Option<Group>,
     /// A G53 with no words: it applies to the move that follows on its line.
     pending_g53: Option<Span>,
+    /// The lenient dialect's statements of the block being read.
+    block: Vec<Group>,
     out: std::collections::VecDeque<Event>,
     done: bool,
 }
@@ -57,7 +59,7 @@ pub fn parse<L: Iterator<Item = Lexed>>(tokens: L) -> Parser<L> {
 }
 
 pub fn parse_in<L: Iterator<Item = Lexed>>(tokens: L, dialect: Dialect) -> Parser<L> {
-    Parser { tokens, dialect, group: None, pending_g53: None, out: Default::default(), done: false }
+    Parser { tokens, dialect, group: None, pending_g53: None, block: Vec::new(), out: Default::default(), done: false }
 }
 
 impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
@@ -126,6 +128,64 @@ impl<L> Parser<L> {
 
     fn close(&mut self) {
         let Some(group) = self.group.take() else { return };
+        if self.dialect == Dialect::Lenient {
+            // The whole block is needed to know whose words are whose.
+            self.block.push(group);
+        } else {
+            self.emit(group);
+        }
+    }
+
+    /// The lenient dialect reads a block (a line, or up to `;`) as LinuxCNC
+    /// does: words belong to the block's motion or cycle code whatever their
+    /// order (`G81 G99 Z-1 R1`), and the block's other G codes act before it.
+    fn close_block(&mut self) {
+        let mut block = std::mem::take(&mut self.block);
+        let dialect = self.dialect;
+        let is_motion = |group: &Group| {
+            matches!(&group.head, Head::Code { letter: 'G', value }
+                if [0.0, 1.0, 2.0, 3.0, 73.0, 81.0, 82.0, 83.0, 85.0, 86.0, 89.0].contains(&value.value))
+        };
+        if let Some(m) = block.iter().position(is_motion) {
+            // A word its own code cannot take goes to the motion code if it
+            // can take it, else to the first G code of the block that can.
+            let heads: Vec<Option<f64>> = block
+                .iter()
+                .map(|g| match &g.head {
+                    Head::Code { letter: 'G', value } => Some(value.value),
+                    _ => None,
+                })
+                .collect();
+            let count = block.len();
+            let owner = |word: char| {
+                std::iter::once(m)
+                    .chain(0..count)
+                    .find(|&i| heads[i].is_some_and(|code| takes_word('G', code, word, dialect)))
+            };
+            let mut moved: Vec<(usize, (char, Value))> = Vec::new();
+            for (i, group) in block.iter_mut().enumerate() {
+                let Some(code) = heads[i] else { continue };
+                let (keep, give): (Vec<_>, Vec<_>) = std::mem::take(&mut group.words)
+                    .into_iter()
+                    .partition(|(w, _)| takes_word('G', code, *w, dialect) || owner(*w).is_none());
+                group.words = keep;
+                moved.extend(give.into_iter().map(|word| (owner(word.0).expect("kept otherwise"), word)));
+            }
+            for (to, word) in moved {
+                block[to].words.push(word);
+            }
+            // Modal G codes written after the motion code still act before it.
+            let motion = block.remove(m);
+            let last_g =
+                block.iter().rposition(|g| matches!(g.head, Head::Code { letter: 'G', .. })).map_or(0, |i| i + 1);
+            block.insert(last_g.max(m), motion);
+        }
+        for group in block {
+            self.emit(group);
+        }
+    }
+
+    fn emit(&mut self, group: Group) {
         for group in self.split(group) {
             let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
             match result {
@@ -139,8 +199,9 @@ impl<L> Parser<L> {
     /// At the end of a line (or `;`), a G53 still waiting for its move has none.
     fn end_of_statement(&mut self) {
         self.close();
+        self.close_block();
         if let Some(span) = self.pending_g53.take() {
-            let diagnostic = Diagnostic::error(span, "G53 with no move after it on its line")
+            let diagnostic = Diagnostic::warning(span, "G53 with no move after it on its line does nothing")
                 .with_help("write the move on the same line, e.g. G53 G00 Z0");
             self.out.push_back(Event::Diagnostic(diagnostic));
         }
@@ -196,12 +257,10 @@ impl<L> Parser<L> {
             (Kind::Motion(motion), Some(g53)) if g53.line == span.line => {
                 Ok(Some(Statement { kind: Kind::MachineMove(motion), span: g53.to(span), origin }))
             }
+            // Other codes may stand between G53 and its move (`G53 G49 Z0`).
             (kind, Some(g53)) => {
-                self.out.push_back(Event::Diagnostic(
-                    Diagnostic::error(g53, "G53 with no move after it on its line")
-                        .with_help("write the move on the same line, e.g. G53 G00 Z0"),
-                ));
-                self.join_g53(Statement { kind, span, origin })
+                self.pending_g53 = Some(g53);
+                Ok(Some(Statement { kind, span, origin }))
             }
             (kind, None) => Ok(Some(Statement { kind, span, origin })),
         }
@@ -243,7 +302,7 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 530) => Some("XYZF"),
         ('G', 640) => Some("PQ"),
         ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Some("XYZRQPLKF"),
-        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20) => Some(""),
+        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 190 | 310 | 330) => Some(""),
         _ => None,
     }
 }
@@ -266,7 +325,7 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
             match words.list[0] {
                 _ if words.has_any(ARC_WORDS) => {
                     words.only(ARC_WORDS, "a move")?;
-                    Kind::Motion(Box::new(motion(None, &words)?))
+                    Kind::Motion(Box::new(motion(None, &words, dialect)?))
                 }
                 // The lenient split leaves S and T alone in their statements.
                 ('S', s) if dialect == Dialect::Lenient => Kind::SpindleSpeed(speed(s)?),
@@ -301,12 +360,12 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
         ('G', 0) | ('G', 10) => {
             let mode = if number == 0 { MotionMode::Rapid } else { MotionMode::Linear };
             words.only(MOTION_WORDS, &name)?;
-            Kind::Motion(Box::new(motion(Some(mode), words)?))
+            Kind::Motion(Box::new(motion(Some(mode), words, dialect)?))
         }
         ('G', 20) | ('G', 30) => {
             let mode = if number == 20 { MotionMode::ArcCw } else { MotionMode::ArcCcw };
             words.only(ARC_WORDS, &name)?;
-            Kind::Motion(Box::new(motion(Some(mode), words)?))
+            Kind::Motion(Box::new(motion(Some(mode), words, dialect)?))
         }
         ('G', 150) => no_words(Kind::Polar(false))?,
         ('G', 160) => no_words(Kind::Polar(true))?,
@@ -323,10 +382,15 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
         }
         ('G', 430) | ('G', 440) => {
             words.only("ZH", &name)?;
-            let h = words.whole('H')?.ok_or_else(|| {
-                Diagnostic::error(span, format!("{name} needs an H word: the tool length offset register"))
-                    .with_help(format!("write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset"))
-            })?;
+            // Without H, LinuxCNC uses the loaded tool's offset; so does the lenient dialect (pass 04).
+            let h = words.whole('H')?;
+            if h.is_none() && dialect == Dialect::Strict {
+                return Err(Diagnostic::error(
+                    span,
+                    format!("{name} needs an H word: the tool length offset register"),
+                )
+                .with_help(format!("write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset")));
+            }
             Kind::ToolLength { positive: number == 430, z: words.get('Z'), h }
         }
         ('G', 490) => no_words(Kind::ToolLengthCancel)?,
@@ -405,12 +469,15 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 640) => Kind::NoEffect("G64"),
         ('G', 911) => Kind::NoEffect("G91.1"),
         ('G', 940) => Kind::NoEffect("G94"),
+        ('M', 190) => Kind::NoEffect("M19"),
+        ('M', 310) => Kind::NoEffect("M31"),
+        ('M', 330) => Kind::NoEffect("M33"),
         ('G', 800) => Kind::CycleCancel,
         ('G', 980) => Kind::CycleRetract(Retract::Initial),
         ('G', 990) => Kind::CycleRetract(Retract::RPlane),
         ('G', 280) => Kind::Home { reference: Reference::Home, via: words.axes("XYZ") },
         ('G', 300) => Kind::Home { reference: Reference::Second, via: words.axes("XYZ") },
-        ('G', 530) => Kind::MachineMove(Box::new(motion(None, words)?)),
+        ('G', 530) => Kind::MachineMove(Box::new(motion(None, words, Dialect::Lenient)?)),
         ('G', 100) => {
             let relative =
                 match words.whole('L')? {
@@ -476,7 +543,7 @@ fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnos
     Diagnostic::error(span, format!("{name} is not accepted: {why}"))
 }
 
-fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic> {
+fn motion(mode: Option<MotionMode>, words: &Words, dialect: Dialect) -> Result<Motion, Diagnostic> {
     let motion = Motion {
         mode,
         target: words.axes("XYZ"),
@@ -491,7 +558,8 @@ fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic>
     if let Some(f) = motion.feed.filter(|f| f.value <= 0.0) {
         return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
     }
-    if mode == Some(MotionMode::Rapid) {
+    // LinuxCNC reads F on a rapid as the feed for later moves; so does the lenient dialect.
+    if mode == Some(MotionMode::Rapid) && dialect == Dialect::Strict {
         if let Some(f) = motion.feed {
             return Err(Diagnostic::error(f.span, "F is not allowed on a G00 (rapid) move")
                 .with_help("rapids run at the machine's rapid rate; put F on the next G01/G02/G03"));

@@ -362,11 +362,12 @@ pub enum Kind {
         code: Offset,
         axes: Axes,
     },
-    /// G43 (positive) / G44 with an optional Z to move to and the H register.
+    /// G43 (positive) / G44 with an optional Z to move to and the H register
+    /// (none: the loaded tool's, lenient dialect only, settled in pass 04).
     ToolLength {
         positive: bool,
         z: Option<Value>,
-        h: u32,
+        h: Option<u32>,
     },
     /// G49.
     ToolLengthCancel,
@@ -406,7 +407,8 @@ pub enum Kind {
     SpindleSpeed(f64),
     /// T alone: the tool the next M06 loads.
     ToolSelect(u32),
-    /// Codes with no effect on the toolpath (G61, G61.1, G64, G94, G91.1); pass 00 drops them.
+    /// Codes with no effect on the toolpath (G61, G61.1, G64, G94, G91.1; M19
+    /// spindle orient, M31/M33 chip conveyor); pass 00 drops them.
     NoEffect(&'static str),
     /// G80: the end of a series of canned cycles.
     CycleCancel,

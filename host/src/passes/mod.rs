@@ -125,7 +125,7 @@ pub fn translate<'a, R: BufRead + 'a>(
         }
     };
     let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
-    let parsed = parse_in(Lexer::new(program), config.dialect);
+    let parsed = parse_in(Lexer::in_dialect(program, config.dialect), config.dialect);
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
     let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
     let stream =

@@ -55,7 +55,7 @@ impl<'a> Library<'a> {
         let mut bodies = HashMap::new();
         let mut current: Option<(u32, Vec<Statement>)> = None;
         let mut first = true;
-        for event in parse_in(Lexer::new(program), dialect) {
+        for event in parse_in(Lexer::in_dialect(program, dialect), dialect) {
             let Event::Statement(statement) = event else {
                 continue;
             };

@@ -187,9 +187,12 @@ impl Absolute {
                 Ok(false) => return,
                 Err(diagnostic) => return out.error(&statement, diagnostic),
             },
-            Kind::ToolLength { z: Some(z), .. } => {
-                *z = self.absolute(2, *z);
-                self.position[2] = z.value;
+            Kind::ToolLength { z, h, .. } => {
+                *h = h.or(Some(self.probe.borrow().tool));
+                if let Some(z) = z {
+                    *z = self.absolute(2, *z);
+                    self.position[2] = z.value;
+                }
             }
             Kind::Machine { code, s, t } => {
                 // A speed or tool given alone before (lenient dialect) is used here.
