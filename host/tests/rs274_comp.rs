@@ -96,7 +96,11 @@ fn ger_path(dir: &Path, program: &str) -> Vec<Move> {
 fn rs274_path(dir: &Path) -> Option<Vec<Move>> {
     // rs274 without an INI file reads the tool table in inches.
     std::fs::write(dir.join("tools.tbl"), format!("T1 P1 D{:.12}\n", TOOL_DIAMETER_MM / 25.4)).unwrap();
-    let output = match Command::new("rs274").current_dir(dir).args(["-t", "tools.tbl", "-g", "part.ngc"]).output() {
+    // rs274 maps the tool table to $HOME/.tool.mmap and truncates it as it
+    // starts: runs sharing a HOME crash each other (SIGBUS). One each.
+    let rs274 =
+        Command::new("rs274").current_dir(dir).env("HOME", dir).args(["-t", "tools.tbl", "-g", "part.ngc"]).output();
+    let output = match rs274 {
         Ok(output) => output,
         Err(err) if err.kind() == ErrorKind::NotFound => {
             let message = "rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not installed: \
@@ -112,7 +116,12 @@ fn rs274_path(dir: &Path) -> Option<Vec<Move>> {
         Err(err) => panic!("cannot run rs274: {err}"),
     };
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "rs274 failed:\n{stdout}\n{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        output.status.success(),
+        "rs274 failed ({}):\n{stdout}\n{}",
+        output.status,
+        String::from_utf8_lossy(&output.stderr)
+    );
     let mut on = false;
     let mut moves = Vec::new();
     for line in stdout.lines() {

@@ -69,7 +69,7 @@ class WitWorld(Wizard):
             raise Err("no feed rate is set: give an F before calling Slot")
         host.log(f"slot of {length:g} at line {state.line}")
         x, top = state.x, state.z
-        out = [Statement_Comment(f"Slot {length:g} long, {depth:g} deep, {int(passes)} pass(es)")]
+        out = [Statement_Comment(f"Slot {length:g} long, {depth:g} deep, {int(passes)} passes")]
         if state.distance == Distance.INCREMENTAL:
             out.append(words(("G", 90)))
         # Zigzag down: each pass goes the other way along the slot.

@@ -321,19 +321,23 @@ pub(super) fn watch(
         if let Err(message) = once() {
             eprint!("{message}");
         }
-        // What the run itself wrote (a wizard it built) is not a change to react to.
-        while rx.try_recv().is_ok() {}
+        // A .wasm written during the run is a wizard that run built: not a
+        // change to react to. Any other change during the run is.
+        let mut changed = false;
+        while let Ok(event) = rx.try_recv() {
+            changed |= matters(event, &|p: &Path| relevant(p) && p.extension().is_none_or(|e| e != "wasm"));
+        }
+        if changed {
+            continue;
+        }
         eprintln!("ger: watching {} and {} for changes (Ctrl-C stops)", program.display(), wizards.display());
-        loop {
+        while !changed {
             let event = rx.recv().map_err(|_| plain_error("the file watcher stopped", None))?;
-            let mut changed = matters(event, &relevant);
+            changed = matters(event, &relevant);
             // Saves come in bursts: let them settle, then run once.
             std::thread::sleep(Duration::from_millis(100));
             while let Ok(event) = rx.try_recv() {
                 changed |= matters(event, &relevant);
-            }
-            if changed {
-                break;
             }
         }
     }

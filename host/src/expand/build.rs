@@ -304,8 +304,12 @@ fn build_javascript(source: &Source, ger: &Path, out: &Path, progress: &mut Prog
         | write_if_changed(&js.join("package-lock.json"), PACKAGE_LOCK)?;
     if changed || !jco.is_file() {
         progress("installing jco (once) into the wizards directory's target/");
+        // `npm install` follows the lock file; `npm ci` would refuse it, as
+        // npm leaves other platforms' optional packages out of the lock.
         run(
-            Command::new("npm").args(["ci", "--no-audit", "--no-fund", "--loglevel=error"]).current_dir(&js),
+            Command::new("npm")
+                .args(["install", "--no-save", "--no-audit", "--no-fund", "--loglevel=error"])
+                .current_dir(&js),
             "npm could not install jco",
             "JavaScript wizards need Node.js 18 or newer with npm",
         )?;

@@ -6,14 +6,17 @@
 //!   loaded (tool 1 before any), or of entry w with `G41 Dw`.
 //! - Entry (the manual's way): the tool steps out by the radius,
 //!   perpendicular to the start of the first move in the plane after G41/G42,
-//!   so that move is cut with the offset from its start.
+//!   so that move is cut with the offset from its start. Z moves between the
+//!   two run before the step, where the tool is.
 //! - Lines and arcs (helices too: Z passes through) are offset exactly. At a
 //!   corner, an outside turn goes round the corner point on an arc of the
 //!   tool's radius (a straight G00 when the next move is a rapid, as a rapid
 //!   has no feed for an arc); an inside turn cuts both offsets where they
 //!   cross.
 //! - Exit: after G40 the next move in the plane goes from the offset path to
-//!   its programmed end.
+//!   its programmed end (it must be straight).
+//! - What the pass writes is rounded to the output's resolution, and offset
+//!   moves or corners shorter than that are left out.
 //!
 //! To know how a move ends, the pass must see the next move in the plane, so
 //! it holds one move back, with the statements that follow it (Z moves,
@@ -41,9 +44,23 @@ struct Comp {
     radius: f64,
 }
 
+/// What the pass needs of a move, read as it comes in.
+struct Step {
+    mode: MotionMode,
+    /// The programmed end.
+    end: Point,
+    /// Whether X or Y is written.
+    in_plane: bool,
+    /// `None` for a straight move of no length in the plane.
+    path: Option<Segment>,
+    z: Option<Value>,
+    feed: Option<Value>,
+}
+
 /// A move whose end waits on the next move: where it ends depends on the
 /// corner between them.
 struct Held {
+    /// The move as programmed: its line and call chain, for what it makes.
     statement: Statement,
     mode: MotionMode,
     z: Option<Value>,
@@ -59,13 +76,14 @@ struct Held {
 enum State {
     Off,
     /// G41/G42 seen; the step out waits for the first move in the plane.
+    // Boxed, so that the state moves cheaply: it changes hands on every move.
     Entering {
         comp: Comp,
-        at: Statement,
+        at: Box<Statement>,
     },
     On {
         comp: Comp,
-        held: Held,
+        held: Box<Held>,
     },
     /// G40 seen: the tool is still off the programmed path.
     Leaving,
@@ -123,7 +141,7 @@ impl CutterComp {
                 let help = "ger holds them until the next move shows how the last one ends; cancel the compensation (G40) around them";
                 out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
                 self.end_held(out);
-                self.state = State::Entering { comp, at: statement.clone() };
+                self.state = State::Entering { comp, at: Box::new(statement.clone()) };
             } else {
                 self.waiting.push_back(statement);
                 return;
@@ -142,13 +160,22 @@ impl CutterComp {
         out.push(statement);
     }
 
-    /// Writes `statement` with `kind`, a move along the tool's path.
+    /// Writes a move along the tool's path, made by `statement`.
     fn write_move(&mut self, statement: &Statement, motion: Motion, out: &mut Out) {
-        self.write(statement.with_kind(Kind::Motion(Box::new(motion))), out);
+        self.write(moving(statement, motion), out);
+    }
+
+    /// `value` as it will be written, rounded to the output's resolution:
+    /// the pass hands on what the machine will get, so that an arc's centre
+    /// is measured from where the tool will really be. (Round numbers are
+    /// also the emitter's fast path: unrounded ones made formatting a third
+    /// of the cost of compensation.)
+    fn snap(&self, value: f64) -> f64 {
+        (value / self.resolution).round() * self.resolution
     }
 
     fn value(&self, statement: &Statement, value: f64) -> Option<Value> {
-        Some(Value { value, span: statement.span })
+        Some(Value { value: self.snap(value), span: statement.span })
     }
 
     /// A straight move to `to`, at the Z the tool is at unless `z` says.
@@ -192,7 +219,7 @@ impl CutterComp {
             };
             return refuse(out, message, &help);
         };
-        self.state = State::Entering { comp: Comp { side, radius }, at: statement };
+        self.state = State::Entering { comp: Comp { side, radius }, at: Box::new(statement) };
     }
 
     /// G40: the held move ends on its own offset; the next move leaves it.
@@ -229,7 +256,7 @@ impl CutterComp {
         let state = std::mem::replace(&mut self.state, State::Off);
         if let State::On { held, .. } = state {
             let end = held.offset.end();
-            self.write_held(held, end, None, out);
+            self.write_held(&held, end, None, out);
         }
         while let Some(statement) = self.waiting.pop_front() {
             self.write(statement, out);
@@ -239,7 +266,7 @@ impl CutterComp {
     /// Writes the held move along its offset from its start to `end`, or
     /// reports a gouge if that runs backwards. `next` is the line of the move
     /// that cut it short, for the message.
-    fn write_held(&mut self, held: Held, end: Point, next: Option<u32>, out: &mut Out) {
+    fn write_held(&mut self, held: &Held, end: Point, next: Option<u32>, out: &mut Out) {
         let Some(path) = held.offset.trimmed(held.start, end) else {
             let message = "cutter radius compensation would gouge the part: this move is too short for the tool";
             let help = match next {
@@ -260,8 +287,8 @@ impl CutterComp {
                 mode: Some(if ccw { MotionMode::ArcCcw } else { MotionMode::ArcCw }),
                 target: Axes { x: self.value(statement, end.x), y: self.value(statement, end.y), z: held.z },
                 centre: Axes {
-                    x: self.value(statement, centre.x - start.x),
-                    y: self.value(statement, centre.y - start.y),
+                    x: self.value(statement, centre.x - self.snap(start.x)),
+                    y: self.value(statement, centre.y - self.snap(start.y)),
                     z: None,
                 },
                 radius: None,
@@ -281,39 +308,52 @@ impl CutterComp {
         self.write_move(statement, motion, out);
     }
 
-    fn motion(&mut self, statement: Statement, mut motion: Motion, out: &mut Out) {
+    /// Follows a move to its end; what the pass needs of it.
+    fn advance(&mut self, motion: &Motion) -> Step {
         let mode = motion.mode.expect("pass 00 gives every move its mode");
-        let from = self.position;
+        let start = Point::new(self.position[0], self.position[1]);
         for axis in 0..3 {
             if let Some(v) = motion.target.get(axis) {
                 self.position[axis] = v.value;
             }
         }
-        let (start, end) = (Point::new(from[0], from[1]), Point::new(self.position[0], self.position[1]));
-        let in_plane = motion.target.x.is_some() || motion.target.y.is_some();
+        let end = Point::new(self.position[0], self.position[1]);
+        Step {
+            mode,
+            end,
+            in_plane: motion.target.x.is_some() || motion.target.y.is_some(),
+            path: segment(mode, motion, start, end),
+            z: motion.target.z,
+            feed: motion.feed,
+        }
+    }
+
+    fn motion(&mut self, mut statement: Statement, mut step: Step, out: &mut Out) {
         match std::mem::replace(&mut self.state, State::Off) {
-            State::Off => self.write(statement.with_kind(Kind::Motion(Box::new(motion))), out),
-            State::Leaving if !in_plane => {
+            State::Off => self.write(statement, out),
+            State::Leaving if !step.in_plane => {
                 self.state = State::Leaving;
-                self.write(statement.with_kind(Kind::Motion(Box::new(motion))), out);
+                self.write(statement, out);
             }
             State::Leaving => {
-                if mode.is_arc() {
+                if step.mode.is_arc() {
                     let message = "the move after G40 must be a straight line, not an arc";
                     let help = "it takes the tool from the offset path back to the programmed one; \
                                 add a G01 move before the arc";
                     return out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
                 }
                 // Both axes, since the tool is off the programmed path in both.
-                motion.target.x = self.value(&statement, end.x);
-                motion.target.y = self.value(&statement, end.y);
-                self.write(statement.with_kind(Kind::Motion(Box::new(motion))), out);
+                let (x, y) = (self.value(&statement, step.end.x), self.value(&statement, step.end.y));
+                if let Kind::Motion(motion) = &mut statement.kind {
+                    (motion.target.x, motion.target.y) = (x, y);
+                }
+                self.write(statement, out);
             }
             State::Entering { comp, at } => {
-                let Some(path) = segment(mode, &motion, start, end) else {
+                let Some(path) = step.path else {
                     // Nothing to step out along yet: Z moves run where the tool is.
                     self.state = State::Entering { comp, at };
-                    return self.write(statement.with_kind(Kind::Motion(Box::new(motion))), out);
+                    return self.write(statement, out);
                 };
                 let Some(offset) = self.offset(&statement, &path, comp, out) else {
                     self.state = State::Entering { comp, at };
@@ -321,43 +361,44 @@ impl CutterComp {
                 };
                 // The step out runs at the first move's speed: a rapid, or
                 // a feed move taking the feed the first move brings.
-                let (step_mode, step_feed) = match mode {
+                let (step_mode, step_feed) = match step.mode {
                     MotionMode::Rapid => (MotionMode::Rapid, None),
-                    _ => (MotionMode::Linear, motion.feed.take()),
+                    _ => (MotionMode::Linear, step.feed.take()),
                 };
-                let step = Motion { feed: step_feed, ..self.line_to(&at, step_mode, offset.start(), None) };
-                self.write_move(&at, step, out);
-                let held = self.hold(statement, motion, mode, end, offset);
+                let step_out = Motion { feed: step_feed, ..self.line_to(&at, step_mode, offset.start(), None) };
+                self.write_move(&at, step_out, out);
+                let held = Box::new(hold(statement, step, offset, offset.start()));
                 self.state = State::On { comp, held };
             }
             State::On { comp, held } => {
-                let Some(path) = segment(mode, &motion, start, end) else {
+                let Some(path) = step.path else {
                     self.state = State::On { comp, held };
-                    return self.z_only(statement, motion, out);
+                    return self.z_only(statement, step, out);
                 };
                 let Some(offset) = self.offset(&statement, &path, comp, out) else {
                     self.state = State::On { comp, held };
                     self.end_held(out);
-                    self.state = State::Entering { comp, at: statement };
+                    self.state = State::Entering { comp, at: Box::new(statement) };
                     return;
                 };
-                self.turn(held, comp, statement, motion, mode, end, offset, out);
+                self.turn(held, comp, statement, step, offset, out);
             }
         }
     }
 
     /// A move with no length in the plane, while a move is held: only its Z
     /// matters (its X and Y are the programmed point, not the tool's).
-    fn z_only(&mut self, statement: Statement, mut motion: Motion, out: &mut Out) {
-        motion.target.x = None;
-        motion.target.y = None;
-        if motion.target.z.is_none() {
-            if motion.feed.is_some() {
-                self.feed_carried = motion.feed;
+    fn z_only(&mut self, mut statement: Statement, step: Step, out: &mut Out) {
+        if step.z.is_none() {
+            if step.feed.is_some() {
+                self.feed_carried = step.feed;
             }
             return;
         }
-        self.pass(statement.with_kind(Kind::Motion(Box::new(motion))), out);
+        if let Kind::Motion(motion) = &mut statement.kind {
+            (motion.target.x, motion.target.y) = (None, None);
+        }
+        self.pass(statement, out);
     }
 
     /// The move's offset, or the error that the tool does not fit in its arc.
@@ -377,22 +418,15 @@ impl CutterComp {
         }
     }
 
-    fn hold(&self, statement: Statement, motion: Motion, mode: MotionMode, end: Point, offset: Segment) -> Held {
-        Held { statement, mode, z: motion.target.z, feed: motion.feed, corner: end, offset, start: offset.start() }
-    }
-
     /// The corner between the held move and the next one: writes the held
     /// move, what waited behind it and the way round the corner, and holds
     /// the next move.
-    #[allow(clippy::too_many_arguments)]
     fn turn(
         &mut self,
-        held: Held,
+        mut held: Box<Held>,
         comp: Comp,
         statement: Statement,
-        mut motion: Motion,
-        mode: MotionMode,
-        end: Point,
+        mut step: Step,
         offset: Segment,
         out: &mut Out,
     ) {
@@ -407,44 +441,52 @@ impl CutterComp {
             out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
             self.state = State::On { comp, held };
             self.end_held(out);
-            self.state = State::Entering { comp, at: statement };
+            self.state = State::Entering { comp, at: Box::new(statement) };
             return;
         };
-        let line = statement.span.line;
         let (held_end, start) = match corner {
             Corner::Smooth => (held.offset.end(), held.offset.end()),
             Corner::Around { from, to, .. } => (from, to),
             Corner::Cut(at) => (at, at),
         };
-        let corner_point = held.corner;
-        self.write_held(held, held_end, Some(line), out);
+        self.write_held(&held, held_end, Some(statement.span.line), out);
         while let Some(waiting) = self.waiting.pop_front() {
             self.write(waiting, out);
         }
         if let Corner::Around { from, to, ccw } = corner {
-            let round = if mode == MotionMode::Rapid {
+            let round = if step.mode == MotionMode::Rapid {
                 self.line_to(&statement, MotionMode::Rapid, to, None)
             } else {
                 // Round the programmed corner, at the tool's radius from it.
-                let centre = corner_point;
+                let centre = held.corner;
                 Motion {
                     mode: Some(if ccw { MotionMode::ArcCcw } else { MotionMode::ArcCw }),
                     centre: Axes {
-                        x: self.value(&statement, centre.x - from.x),
-                        y: self.value(&statement, centre.y - from.y),
+                        x: self.value(&statement, centre.x - self.snap(from.x)),
+                        y: self.value(&statement, centre.y - self.snap(from.y)),
                         z: None,
                     },
                     // The corner is the start of this move: it runs at its feed.
-                    feed: motion.feed.take(),
-                    ..self.line_to(&statement, mode, to, None)
+                    feed: step.feed.take(),
+                    ..self.line_to(&statement, step.mode, to, None)
                 }
             };
             self.write_move(&statement, round, out);
         }
-        let mut next = self.hold(statement, motion, mode, end, offset);
-        next.start = start;
-        self.state = State::On { comp, held: next };
+        // The next move takes the held one's place (and its box).
+        *held = hold(statement, step, offset, start);
+        self.state = State::On { comp, held };
     }
+}
+
+/// The move of `statement` held, with the tool starting it at `start`.
+fn hold(statement: Statement, step: Step, offset: Segment, start: Point) -> Held {
+    Held { statement, mode: step.mode, z: step.z, feed: step.feed, corner: step.end, offset, start }
+}
+
+/// A move made by `statement` (which keeps its line and call chain).
+fn moving(statement: &Statement, motion: Motion) -> Statement {
+    statement.with_kind(Kind::Motion(Box::new(motion)))
 }
 
 /// The move's path in the plane; `None` for a straight move that does not
@@ -489,8 +531,8 @@ impl Pass for CutterComp {
                 self.pass(statement, out);
             }
             Kind::Motion(motion) => {
-                let motion = *std::mem::take(motion);
-                self.motion(statement, motion, out);
+                let step = self.advance(motion);
+                self.motion(statement, step, out);
             }
             Kind::ToolLength { z, .. } => {
                 if let Some(z) = z {
