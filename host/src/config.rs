@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, Span};
-use crate::statement::Units;
+use crate::statement::{Dialect, Units};
 
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -17,6 +17,21 @@ pub struct Config {
     pub offsets: WorkOffsets,
     #[serde(default = "default_tools")]
     pub tools: Vec<Tool>,
+    /// "strict", the GER manual's G-code (default), or "lenient": that and
+    /// what CAM programs and controllers commonly emit.
+    #[serde(default, with = "dialect_name")]
+    pub dialect: Dialect,
+    #[serde(default)]
+    pub machine: MachineSettings,
+}
+
+/// The machine beyond its unit and tables.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MachineSettings {
+    /// G30's second reference point, in machine coordinates (default: machine zero).
+    #[serde(default, rename = "g30")]
+    pub second_reference: [f64; 3],
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
@@ -69,7 +84,13 @@ pub const MAX_TOOLS: usize = 20;
 
 impl Default for Config {
     fn default() -> Config {
-        Config { units: default_units(), offsets: WorkOffsets::default(), tools: default_tools() }
+        Config {
+            units: default_units(),
+            offsets: WorkOffsets::default(),
+            tools: default_tools(),
+            dialect: Dialect::Strict,
+            machine: MachineSettings::default(),
+        }
     }
 }
 
@@ -80,6 +101,22 @@ fn default_units() -> Units {
 /// Tool 1: a quarter-inch endmill.
 fn default_tools() -> Vec<Tool> {
     vec![Tool { number: 1, kind: ToolKind::Endmill, diameter: 0.25, flute_length: None, tip_angle: None }]
+}
+
+mod dialect_name {
+    use serde::{Deserialize, Deserializer};
+
+    use crate::statement::Dialect;
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Dialect, D::Error> {
+        match String::deserialize(d)?.as_str() {
+            "strict" => Ok(Dialect::Strict),
+            "lenient" => Ok(Dialect::Lenient),
+            other => {
+                Err(serde::de::Error::custom(format!("dialect must be \"strict\" or \"lenient\", not \"{other}\"")))
+            }
+        }
+    }
 }
 
 mod units_name {
@@ -164,6 +201,9 @@ mod tests {
     fn a_full_file_parses() {
         let text = r#"
 units = "mm"
+dialect = "lenient"
+[machine]
+g30 = [0, 0, 50]
 [offsets]
 G54 = [10.0, 20.0, -5.0]
 G59 = [1, 2, 3]
@@ -176,6 +216,8 @@ tip_angle = 90
 "#;
         let config = Config::from_toml(text).unwrap();
         assert_eq!(config.units, Units::Mm);
+        assert_eq!(config.dialect, Dialect::Lenient);
+        assert_eq!(config.machine.second_reference, [0.0, 0.0, 50.0]);
         assert_eq!(config.offsets.entry(1), [10.0, 20.0, -5.0]);
         assert_eq!(config.offsets.entry(2), [0.0; 3]);
         assert_eq!(config.offsets.entry(6), [1.0, 2.0, 3.0]);

@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use crate::statement::{Axes, Kind, Offset, Side, Statement, Units, Value, WizardArg};
+use crate::statement::{Axes, Kind, Offset, Reference, Retract, Side, Statement, Units, Value, WizardArg};
 
 pub struct Emitter {
     decimals: usize,
@@ -35,6 +35,15 @@ impl Emitter {
         if self.line_numbers {
             let _ = write!(out, "N{} ", statement.span.line);
         }
+        let start = out.len();
+        self.write_statement(out, statement);
+        // Words are written with a space before them; a bare move (no code) starts with a word.
+        if out[start..].starts_with(' ') {
+            out.remove(start);
+        }
+    }
+
+    fn write_statement(&self, out: &mut String, statement: &Statement) {
         match &statement.kind {
             Kind::Motion(m) => {
                 if let Some(mode) = m.mode {
@@ -62,7 +71,9 @@ impl Emitter {
             Kind::ToolLength { positive, z, h } => {
                 out.push_str(if *positive { "G43" } else { "G44" });
                 self.value(out, 'Z', *z);
-                let _ = write!(out, " H{h}");
+                if let Some(h) = h {
+                    let _ = write!(out, " H{h}");
+                }
             }
             Kind::ToolLengthCancel => out.push_str("G49"),
             Kind::CutterComp { side, d } => {
@@ -89,6 +100,47 @@ impl Emitter {
             }
             Kind::Return => out.push_str("M99"),
             Kind::End => out.push_str("M30"),
+            Kind::Dwell(seconds) => {
+                out.push_str("G04");
+                self.value(out, 'P', Some(Value { value: *seconds, span: statement.span }));
+            }
+            Kind::SpindleSpeed(s) => {
+                let _ = write!(out, "S{s}");
+            }
+            Kind::ToolSelect(t) => {
+                let _ = write!(out, "T{t}");
+            }
+            Kind::NoEffect(code) => out.push_str(code),
+            Kind::CycleCancel => out.push_str("G80"),
+            Kind::CycleRetract(retract) => out.push_str(if *retract == Retract::Initial { "G98" } else { "G99" }),
+            Kind::Cycle(cycle) => {
+                out.push_str(cycle.code.code());
+                self.axes(out, "XYZ", &cycle.target);
+                self.value(out, 'R', cycle.r);
+                self.value(out, 'Q', cycle.q);
+                self.value(out, 'P', cycle.p);
+                if cycle.repeat != 1 {
+                    let _ = write!(out, " L{}", cycle.repeat);
+                }
+                self.value(out, 'F', cycle.feed);
+            }
+            Kind::Home { reference, via } => {
+                out.push_str(if *reference == Reference::Home { "G28" } else { "G30" });
+                self.axes(out, "XYZ", via);
+            }
+            Kind::MachineMove(m) => {
+                out.push_str("G53");
+                if let Some(mode) = m.mode {
+                    out.push(' ');
+                    out.push_str(mode.code());
+                }
+                self.axes(out, "XYZ", &m.target);
+                self.value(out, 'F', m.feed);
+            }
+            Kind::SetWorkOffset { entry, axes, relative } => {
+                let _ = write!(out, "G10 L{} P{entry}", if *relative { 20 } else { 2 });
+                self.axes(out, "XYZ", axes);
+            }
             Kind::Wizard { name, args } => {
                 out.push_str(name);
                 for arg in args {
@@ -121,11 +173,38 @@ impl Emitter {
 }
 
 /// Fixed decimals; a value that rounds to zero is written `0.000`, not `-0.000`.
+///
+/// Written by hand because the standard library's exact formatting falls back
+/// to big-number arithmetic for many values, and it dominated translation
+/// time: here the value is scaled, rounded to an integer and the point put in.
 pub fn push_number(out: &mut String, value: f64, decimals: usize) {
-    let start = out.len();
-    let _ = write!(out, "{value:.decimals$}");
-    if out[start..].starts_with('-') && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.') {
-        out.remove(start);
+    const SCALES: [f64; 7] = [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6];
+    let scaled = (value * SCALES[decimals.min(6)]).round();
+    // Past 2^53 an f64 holds no fraction anyway; let the standard library write it.
+    if decimals > 6 || !scaled.is_finite() || scaled.abs() >= 9.0e15 {
+        let start = out.len();
+        let _ = write!(out, "{value:.decimals$}");
+        if out[start..].starts_with('-') && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.') {
+            out.remove(start);
+        }
+        return;
+    }
+    let units = scaled as i64;
+    if units < 0 {
+        out.push('-');
+    }
+    let digits = units.unsigned_abs().to_string();
+    if digits.len() <= decimals {
+        out.push_str("0.");
+        out.extend(std::iter::repeat_n('0', decimals - digits.len()));
+        out.push_str(&digits);
+    } else {
+        let (whole, fraction) = digits.split_at(digits.len() - decimals);
+        out.push_str(whole);
+        if decimals > 0 {
+            out.push('.');
+            out.push_str(fraction);
+        }
     }
 }
 
@@ -146,7 +225,34 @@ mod tests {
         assert_eq!(number(-0.00005001, 4), "-0.0001");
         assert_eq!(number(1e-20, 3), "0.000");
         assert_eq!(number(1e12, 3), "1000000000000.000");
+        assert_eq!(number(1e300, 3).len(), 305);
+        assert_eq!(number(0.5, 0), "1");
+        assert_eq!(number(-0.0005001, 3), "-0.001");
+        assert_eq!(number(123.4567, 3), "123.457");
         assert_eq!(number(-2.5, 3), "-2.500");
+    }
+
+    #[test]
+    fn agrees_with_the_standard_library_away_from_ties() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        for i in 0..200_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let magnitude = 10f64.powi(i % 9 - 3);
+            let value = (seed as f64 / u64::MAX as f64 - 0.5) * magnitude;
+            for decimals in [3, 4] {
+                let scaled = value * 10f64.powi(decimals as i32);
+                if (scaled.fract().abs() - 0.5).abs() < 1e-6 {
+                    continue; // exact ties may round either way
+                }
+                let mut std = format!("{value:.decimals$}");
+                if std.starts_with('-') && std[1..].bytes().all(|b| b == b'0' || b == b'.') {
+                    std.remove(0);
+                }
+                assert_eq!(number(value, decimals), std, "{value}");
+            }
+        }
     }
 
     #[test]

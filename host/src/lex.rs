@@ -8,6 +8,7 @@
 use std::io::BufRead;
 
 use crate::diag::{Diagnostic, Span};
+use crate::statement::Dialect;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum TokenKind {
@@ -25,6 +26,8 @@ pub enum TokenKind {
     Comment(String),
     /// `;` or the end of a line.
     End,
+    /// `/` at the start of a line: block delete.
+    BlockDelete,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -61,11 +64,28 @@ pub struct Lexer<R> {
     /// Set while a comment is open across lines.
     open_comment: Option<OpenComment>,
     done: bool,
+    lenient: bool,
 }
 
 impl<R: BufRead> Lexer<R> {
     pub fn new(reader: R) -> Lexer<R> {
-        Lexer { reader, raw: Vec::new(), line_no: 0, pending: Default::default(), open_comment: None, done: false }
+        Lexer::in_dialect(reader, Dialect::Strict)
+    }
+
+    /// The lenient dialect also reads `X 1.5` (a space in a word, as LinuxCNC
+    /// does) and `;` starting a line or followed by prose as a comment to the
+    /// end of the line (as Haas and LinuxCNC do); `G01 X1; Y2` still ends a
+    /// statement at the `;`.
+    pub fn in_dialect(reader: R, dialect: Dialect) -> Lexer<R> {
+        Lexer {
+            reader,
+            raw: Vec::new(),
+            line_no: 0,
+            pending: Default::default(),
+            open_comment: None,
+            done: false,
+            lenient: dialect == Dialect::Lenient,
+        }
     }
 
     fn read_line(&mut self) -> bool {
@@ -102,7 +122,9 @@ impl<R: BufRead> Lexer<R> {
 
     fn lex_line(&mut self) {
         let line = std::mem::take(&mut self.raw);
-        let text = match std::str::from_utf8(&line) {
+        // A byte-order mark, left by some Windows editors, is not part of the program.
+        let body = if self.line_no == 1 { line.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&line) } else { &line };
+        let text = match std::str::from_utf8(body) {
             Ok(text) => text,
             Err(err) => {
                 let col = err.valid_up_to();
@@ -139,6 +161,11 @@ impl<R: BufRead> Lexer<R> {
             let c = bytes[pos];
             match c {
                 b' ' | b'\t' | b'\x0c' => pos += 1,
+                b';' if self.lenient && (first_on_line || !is_gcode(&text[pos + 1..])) => {
+                    let comment = text[pos + 1..].trim().to_string();
+                    self.push_token(TokenKind::Comment(comment), pos, bytes.len() - pos);
+                    pos = bytes.len();
+                }
                 b';' => {
                     self.push_token(TokenKind::End, pos, 1);
                     in_wizard_args = false;
@@ -169,7 +196,9 @@ impl<R: BufRead> Lexer<R> {
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
-                    if letters >= 2 {
+                    if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
+                        pos = self.refuse_rest_of_line(text, pos, ControlFlow);
+                    } else if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
                         self.push_token(TokenKind::Ident(name), pos, name_len);
                         in_wizard_args = true;
@@ -177,6 +206,13 @@ impl<R: BufRead> Lexer<R> {
                     } else {
                         pos = self.word(text, pos, first_on_line);
                     }
+                }
+                b'#' => pos = self.refuse_rest_of_line(text, pos, Parameters),
+                b'[' => pos = self.refuse_rest_of_line(text, pos, Expressions),
+                b'/' if first_on_line => {
+                    self.push_token(TokenKind::BlockDelete, pos, 1);
+                    pos += 1;
+                    continue;
                 }
                 _ => {
                     let len = text[pos..].chars().next().map_or(1, char::len_utf8);
@@ -221,6 +257,29 @@ impl<R: BufRead> Lexer<R> {
         None
     }
 
+    /// Macro programming ger does not have: one error for the line, which is
+    /// skipped (its other words mean nothing without the macro's values).
+    fn refuse_rest_of_line(&mut self, text: &str, start: usize, what: Unsupported) -> usize {
+        let end = text[start..].find('(').map_or(text.len(), |i| start + i);
+        let (message, help) = match what {
+            Parameters => (
+                "parameters (`#1`, `#<name>`) are not supported: ger has no variables",
+                "write the numbers out, or have a wizard compute them",
+            ),
+            Expressions => (
+                "expressions in `[ ]` are not supported: ger has no variables",
+                "write the numbers out, or have a wizard compute them",
+            ),
+            ControlFlow => (
+                "program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
+                "ger runs straight-line G-code with M98 subprograms; a wizard can generate what the program repeats",
+            ),
+        };
+        let span = self.span(start, text[start..end].trim_end().len());
+        self.push_diag(Diagnostic::error(span, message).with_help(help));
+        end
+    }
+
     fn nested_comment(&mut self, col: usize) {
         let diagnostic = Diagnostic::error(self.span(col, 1), "comments cannot nest: `(` inside a comment")
             .with_help("close the first comment with `)` before opening another");
@@ -257,6 +316,19 @@ impl<R: BufRead> Lexer<R> {
     /// number meant (`X -1.5`, `Y-`), so one slip gives one error.
     fn word_without_number(&mut self, text: &str, start: usize, letter: char) -> usize {
         let rest = &text[start + 1..];
+        // `R[...]` and `X#1` are refused as expressions and parameters, once.
+        if rest.trim_start().starts_with(['[', '#']) {
+            return start + 1 + (rest.len() - rest.trim_start().len());
+        }
+        if self.lenient {
+            let spaces = rest.len() - rest.trim_start_matches([' ', '\t']).len();
+            let number = number_len(&rest[spaces..]);
+            if let (true, Ok(value)) = (number > 0 && spaces > 0, rest[spaces..spaces + number].parse::<f64>()) {
+                let letter = letter.to_ascii_uppercase();
+                self.push_token(TokenKind::Word { letter, value }, start, 1 + spaces + number);
+                return start + 1 + spaces + number;
+            }
+        }
         let junk = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit() || " \t+-.".contains(c)).len();
         let len = 1 + rest[..junk].trim_end().len();
         let message = format!("`{letter}` must be followed by a number");
@@ -299,6 +371,57 @@ impl<R: BufRead> Lexer<R> {
             }
         }
     }
+}
+
+#[derive(Clone, Copy)]
+enum Unsupported {
+    Parameters,
+    Expressions,
+    ControlFlow,
+}
+use Unsupported::*;
+
+/// Fanuc macro B's and LinuxCNC's O-word control-flow keywords, maybe with a
+/// number glued on (`GOTO10`, `END1`).
+fn is_control_flow(name: &str) -> bool {
+    const KEYWORDS: [&str; 18] = [
+        "IF",
+        "GOTO",
+        "WHILE",
+        "DO",
+        "END",
+        "THEN",
+        "SUB",
+        "ENDSUB",
+        "CALL",
+        "ELSE",
+        "ELSEIF",
+        "ENDIF",
+        "ENDWHILE",
+        "REPEAT",
+        "ENDREPEAT",
+        "BREAK",
+        "CONTINUE",
+        "RETURN",
+    ];
+    let word = name.trim_end_matches(|c: char| c.is_ascii_digit()).to_ascii_uppercase();
+    KEYWORDS.contains(&word.as_str())
+}
+
+/// Whether `rest` reads as G-code: words (`X1.5`, `G01`), comments, or nothing.
+fn is_gcode(rest: &str) -> bool {
+    let mut rest = rest.trim_start();
+    while let Some(c) = rest.chars().next() {
+        if c == '(' {
+            let Some(end) = rest.find(')') else { return false };
+            rest = rest[end + 1..].trim_start();
+        } else if c.is_ascii_alphabetic() && number_len(&rest[1..]) > 0 {
+            rest = rest[1 + number_len(&rest[1..])..].trim_start();
+        } else {
+            return c == ';';
+        }
+    }
+    true
 }
 
 /// Length of the G-code number at the start of `s`: `[+-]digits[.digits]` or `[+-].digits`.
@@ -360,6 +483,7 @@ mod tests {
                         TokenKind::Str(v) => format!("str {v:?}"),
                         TokenKind::Comment(v) => format!("comment {v:?}"),
                         TokenKind::End => "end".to_string(),
+                        TokenKind::BlockDelete => "/".to_string(),
                     };
                     format!("{}:{}+{} {kind}", s.line, s.col, s.len)
                 }
@@ -422,6 +546,52 @@ mod tests {
     }
 
     #[test]
+    fn macro_programming_is_refused_once_a_line() {
+        assert_eq!(
+            tokens("#1=5 G01 X#1 (c)\nIF [#1 EQ 0] GOTO10\nN20 WHILE [#2 LT 3] DO1\nX1"),
+            [
+                "1:1: error: parameters (`#1`, `#<name>`) are not supported: ger has no variables",
+                "1:14+3 comment \"c\"",
+                "1:17+0 end",
+                "2:1: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
+                "2:20+0 end",
+                "3:5: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
+                "3:24+0 end",
+                "4:1+2 X1",
+                "4:3+0 end"
+            ]
+        );
+        assert_eq!(tokens("o100 sub")[1], "1:6: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported");
+        assert_eq!(tokens("/G01 X1")[0], "1:1+1 /");
+    }
+
+    #[test]
+    fn the_lenient_dialect_reads_spaced_words_and_semicolon_comments() {
+        let lenient = |text: &str| -> Vec<String> {
+            Lexer::in_dialect(text.as_bytes(), Dialect::Lenient)
+                .map(|item| match item {
+                    Lexed::Token(t) => format!("{}:{} {:?}", t.span.line, t.span.col, t.kind),
+                    Lexed::Diagnostic(d) => d.to_string(),
+                })
+                .collect()
+        };
+        assert_eq!(
+            lenient("X -0.25 y 2; IESI Project 2: drilling"),
+            [
+                "1:1 Word { letter: 'X', value: -0.25 }",
+                "1:9 Word { letter: 'Y', value: 2.0 }",
+                "1:12 Comment(\"IESI Project 2: drilling\")",
+                "1:38 End"
+            ]
+        );
+        // G-code after the `;` is still a statement of its own.
+        assert_eq!(lenient("X1; Y2")[1], "1:3 End");
+        // The strict dialect keeps the manual's rules.
+        assert_eq!(tokens("X -0.25")[0], "1:1: error: `X` must be followed by a number");
+        assert_eq!(tokens("\u{feff}%\nX1")[1], "2:1+2 X1");
+    }
+
+    #[test]
     fn malformed_numbers_are_diagnosed() {
         assert_eq!(tokens("X1.2.3")[0], "1:1: error: malformed number in `X1.2.3`");
         assert_eq!(tokens("X - 1"), ["1:1: error: `X` must be followed by a number", "1:6+0 end"]);
@@ -429,7 +599,11 @@ mod tests {
             tokens("G00 Y- X1")[1..],
             ["1:5: error: `Y` must be followed by a number", "1:8+2 X1", "1:10+0 end"]
         );
-        assert_eq!(tokens("G01 X#1")[1], "1:5: error: `X` must be followed by a number");
+        // A parameter in place of the number is one error, about the parameter.
+        assert_eq!(
+            tokens("G01 X#1")[1..],
+            ["1:6: error: parameters (`#1`, `#<name>`) are not supported: ger has no variables", "1:8+0 end"]
+        );
         assert_eq!(tokens("G01 @")[1], "1:5: error: unexpected `@`");
     }
 }

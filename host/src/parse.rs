@@ -9,7 +9,8 @@
 use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
-    Axes, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Side, Statement, Units, Value, WizardArg,
+    Axes, Cycle, CycleCode, Dialect, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference, Retract,
+    Side, Statement, Units, Value, WizardArg,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
@@ -42,13 +43,23 @@ enum Head {
 
 pub struct Parser<L> {
     tokens: L,
+    dialect: Dialect,
     group: Option<Group>,
+    /// A G53 with no words: it applies to the move that follows on its line.
+    pending_g53: Option<Span>,
+    /// The lenient dialect's statements of the block being read.
+    block: Vec<Group>,
     out: std::collections::VecDeque<Event>,
     done: bool,
 }
 
+/// Parses the GER manual's dialect.
 pub fn parse<L: Iterator<Item = Lexed>>(tokens: L) -> Parser<L> {
-    Parser { tokens, group: None, out: Default::default(), done: false }
+    parse_in(tokens, Dialect::Strict)
+}
+
+pub fn parse_in<L: Iterator<Item = Lexed>>(tokens: L, dialect: Dialect) -> Parser<L> {
+    Parser { tokens, dialect, group: None, pending_g53: None, block: Vec::new(), out: Default::default(), done: false }
 }
 
 impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
@@ -66,7 +77,7 @@ impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
                 Some(Lexed::Token(token)) => self.token(token),
                 Some(Lexed::Diagnostic(diagnostic)) => self.out.push_back(Event::Diagnostic(diagnostic)),
                 None => {
-                    self.close();
+                    self.end_of_statement();
                     self.done = true;
                 }
             }
@@ -78,8 +89,14 @@ impl<L> Parser<L> {
     fn token(&mut self, token: Token) {
         let span = token.span;
         match token.kind {
-            TokenKind::End => self.close(),
+            TokenKind::End => self.end_of_statement(),
             TokenKind::Comment(_) => {}
+            // With the block-delete switch off, as controllers start, the block runs.
+            TokenKind::BlockDelete if self.dialect == Dialect::Lenient => {}
+            TokenKind::BlockDelete => self.out.push_back(Event::Diagnostic(
+                Diagnostic::error(span, "block delete (`/`) is not accepted")
+                    .with_help("remove the `/`; with --lenient the block runs, as with the block-delete switch off"),
+            )),
             TokenKind::Ident(name) => self.open(Head::Wizard { name, args: Vec::new() }, span),
             TokenKind::Number(n) => self.wizard_arg(WizardArg::Number(n), span),
             TokenKind::Str(s) => self.wizard_arg(WizardArg::Text(s), span),
@@ -110,12 +127,142 @@ impl<L> Parser<L> {
     }
 
     fn close(&mut self) {
-        if let Some(group) = self.group.take() {
-            let event = match classify(group) {
-                Ok(statement) => Event::Statement(statement),
-                Err(diagnostic) => Event::Diagnostic(diagnostic),
+        let Some(group) = self.group.take() else { return };
+        if self.dialect == Dialect::Lenient {
+            // The whole block is needed to know whose words are whose.
+            self.block.push(group);
+        } else {
+            self.emit(group);
+        }
+    }
+
+    /// The lenient dialect reads a block (a line, or up to `;`) as LinuxCNC
+    /// does: words belong to the block's motion or cycle code whatever their
+    /// order (`G81 G99 Z-1 R1`), and the block's other G codes act before it.
+    fn close_block(&mut self) {
+        let mut block = std::mem::take(&mut self.block);
+        let dialect = self.dialect;
+        let is_motion = |group: &Group| {
+            matches!(&group.head, Head::Code { letter: 'G', value }
+                if [0.0, 1.0, 2.0, 3.0, 73.0, 81.0, 82.0, 83.0, 85.0, 86.0, 89.0].contains(&value.value))
+        };
+        if let Some(m) = block.iter().position(is_motion) {
+            // A word its own code cannot take goes to the motion code if it
+            // can take it, else to the first G code of the block that can.
+            let heads: Vec<Option<f64>> = block
+                .iter()
+                .map(|g| match &g.head {
+                    Head::Code { letter: 'G', value } => Some(value.value),
+                    _ => None,
+                })
+                .collect();
+            let count = block.len();
+            let owner = |word: char| {
+                std::iter::once(m)
+                    .chain(0..count)
+                    .find(|&i| heads[i].is_some_and(|code| takes_word('G', code, word, dialect)))
             };
-            self.out.push_back(event);
+            let mut moved: Vec<(usize, (char, Value))> = Vec::new();
+            for (i, group) in block.iter_mut().enumerate() {
+                let Some(code) = heads[i] else { continue };
+                let (keep, give): (Vec<_>, Vec<_>) = std::mem::take(&mut group.words)
+                    .into_iter()
+                    .partition(|(w, _)| takes_word('G', code, *w, dialect) || owner(*w).is_none());
+                group.words = keep;
+                moved.extend(give.into_iter().map(|word| (owner(word.0).expect("kept otherwise"), word)));
+            }
+            for (to, word) in moved {
+                block[to].words.push(word);
+            }
+            // Modal G codes written after the motion code still act before it.
+            let motion = block.remove(m);
+            let last_g =
+                block.iter().rposition(|g| matches!(g.head, Head::Code { letter: 'G', .. })).map_or(0, |i| i + 1);
+            block.insert(last_g.max(m), motion);
+        }
+        for group in block {
+            self.emit(group);
+        }
+    }
+
+    fn emit(&mut self, group: Group) {
+        for group in self.split(group) {
+            let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
+            match result {
+                Ok(Some(statement)) => self.out.push_back(Event::Statement(statement)),
+                Ok(None) => {}
+                Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
+            }
+        }
+    }
+
+    /// At the end of a line (or `;`), a G53 still waiting for its move has none.
+    fn end_of_statement(&mut self) {
+        self.close();
+        self.close_block();
+        if let Some(span) = self.pending_g53.take() {
+            let diagnostic = Diagnostic::warning(span, "G53 with no move after it on its line does nothing")
+                .with_help("write the move on the same line, e.g. G53 G00 Z0");
+            self.out.push_back(Event::Diagnostic(diagnostic));
+        }
+    }
+
+    /// `G91 X20` is G91, then a move: words a code cannot take, but a move
+    /// can, make a move of their own. In the lenient dialect, S and T words
+    /// that their statement cannot take become statements of their own too.
+    fn split(&self, mut group: Group) -> Vec<Group> {
+        let mut groups = Vec::new();
+        let takes = |letter: char| match &group.head {
+            Head::Code { letter: code, value } => takes_word(*code, value.value, letter, self.dialect),
+            Head::Bare => ARC_WORDS.contains(letter),
+            Head::Wizard { .. } => true,
+        };
+        let mut move_words = Vec::new();
+        let mut kept = Vec::new();
+        for (letter, value) in std::mem::take(&mut group.words) {
+            if takes(letter) {
+                kept.push((letter, value));
+            } else if ARC_WORDS.contains(letter) && !matches!(group.head, Head::Bare) {
+                move_words.push((letter, value));
+            } else if self.dialect == Dialect::Lenient && matches!(letter, 'S' | 'T') {
+                groups.push(Group { head: Head::Bare, span: value.span, words: vec![(letter, value)] });
+            } else {
+                kept.push((letter, value));
+            }
+        }
+        if let Head::Code { value, .. } = &group.head {
+            group.span = kept.iter().fold(value.span, |span, (_, v)| span.to(v.span));
+        }
+        let alone = std::mem::take(&mut groups);
+        if !kept.is_empty() || !matches!(group.head, Head::Bare) {
+            group.words = kept;
+            groups.push(group);
+        }
+        if !move_words.is_empty() {
+            let span = move_words[0].1.span.to(move_words[move_words.len() - 1].1.span);
+            groups.push(Group { head: Head::Bare, span, words: move_words });
+        }
+        groups.extend(alone);
+        groups
+    }
+
+    /// G53 on its own applies to the move after it on the same line.
+    fn join_g53(&mut self, statement: Statement) -> Result<Option<Statement>, Diagnostic> {
+        let Statement { kind, span, origin } = statement;
+        match (kind, self.pending_g53.take()) {
+            (Kind::MachineMove(motion), None) if !motion.moves() => {
+                self.pending_g53 = Some(span);
+                Ok(None)
+            }
+            (Kind::Motion(motion), Some(g53)) if g53.line == span.line => {
+                Ok(Some(Statement { kind: Kind::MachineMove(motion), span: g53.to(span), origin }))
+            }
+            // Other codes may stand between G53 and its move (`G53 G49 Z0`).
+            (kind, Some(g53)) => {
+                self.pending_g53 = Some(g53);
+                Ok(Some(Statement { kind, span, origin }))
+            }
+            (kind, None) => Ok(Some(Statement { kind, span, origin })),
         }
     }
 }
@@ -124,7 +271,49 @@ impl<L> Parser<L> {
 const MOTION_WORDS: &str = "XYZF";
 const ARC_WORDS: &str = "XYZIJKRF";
 
-fn classify(group: Group) -> Result<Statement, Diagnostic> {
+/// The words each code takes, by its number times ten (G61.1 is 611); `None`
+/// for a code the dialect does not know.
+fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str> {
+    let strict = match (letter, number) {
+        ('G', 0 | 10) => Some("XYZF"),
+        ('G', 20 | 30) => Some(ARC_WORDS),
+        ('G', 410 | 420) => Some("D"),
+        ('G', 430 | 440) => Some("ZH"),
+        ('G', 520 | 920) => Some("XYZ"),
+        ('G', 150 | 160 | 170 | 180 | 190 | 200 | 210 | 400 | 490 | 540 | 550 | 560 | 570 | 580 | 590 | 900 | 910) => {
+            Some("")
+        }
+        ('M', 30 | 40) => Some("S"),
+        ('M', 60) => Some("T"),
+        ('M', 980) => Some("PL"),
+        ('M', n) if n.is_multiple_of(10) && (n == 300 || n == 990 || Machine::from_number(n / 10).is_some()) => {
+            Some("")
+        }
+        ('O', _) => Some(""),
+        _ => None,
+    };
+    if strict.is_some() || dialect == Dialect::Strict {
+        return strict;
+    }
+    match (letter, number) {
+        ('G', 40) => Some("P"),
+        ('G', 100) => Some("LPXYZ"),
+        ('G', 280 | 300) => Some("XYZ"),
+        ('G', 530) => Some("XYZF"),
+        ('G', 640) => Some("PQ"),
+        ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Some("XYZRQPLKF"),
+        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 190 | 310 | 330) => Some(""),
+        _ => None,
+    }
+}
+
+/// Whether the statement of code `letter value` keeps a `word`. A code ger
+/// does not know keeps them all, so its error is about the code.
+fn takes_word(letter: char, value: f64, word: char, dialect: Dialect) -> bool {
+    code_number(value).and_then(|n| words_of(letter, n, dialect)).is_none_or(|words| words.contains(word))
+}
+
+fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
     let span = group.span;
     let words = Words::new(group.words)?;
     let kind = match group.head {
@@ -133,19 +322,31 @@ fn classify(group: Group) -> Result<Statement, Diagnostic> {
             if let Some((letter, value)) = words.list.iter().find(|(l, _)| !KNOWN_LETTERS.contains(*l)) {
                 return Err(unknown_letter(*letter, value.span));
             }
-            if words.has_any(ARC_WORDS) {
-                words.only(ARC_WORDS, "a move")?;
-                Kind::Motion(motion(None, &words)?)
-            } else {
-                return Err(stray_word(&words));
+            match words.list[0] {
+                _ if words.has_any(ARC_WORDS) => {
+                    words.only(ARC_WORDS, "a move")?;
+                    Kind::Motion(Box::new(motion(None, &words, dialect)?))
+                }
+                // The lenient split leaves S and T alone in their statements.
+                ('S', s) if dialect == Dialect::Lenient => Kind::SpindleSpeed(speed(s)?),
+                ('T', _) if dialect == Dialect::Lenient => Kind::ToolSelect(words.whole('T')?.unwrap_or(0)),
+                _ => return Err(stray_word(&words)),
             }
         }
-        Head::Code { letter, value } => code(letter, value, &words)?,
+        Head::Code { letter, value } => code(letter, value, &words, dialect)?,
     };
     Ok(Statement::new(kind, span))
 }
 
-fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
+fn speed(s: Value) -> Result<f64, Diagnostic> {
+    if s.value < 0.0 {
+        return Err(Diagnostic::error(s.span, "spindle speed cannot be negative")
+            .with_help("M03 turns clockwise, M04 counter-clockwise; S is the speed"));
+    }
+    Ok(s.value)
+}
+
+fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<Kind, Diagnostic> {
     let span = value.span;
     let name = code_name(letter, value.value);
     let number = code_number(value.value)
@@ -159,12 +360,12 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
         ('G', 0) | ('G', 10) => {
             let mode = if number == 0 { MotionMode::Rapid } else { MotionMode::Linear };
             words.only(MOTION_WORDS, &name)?;
-            Kind::Motion(motion(Some(mode), words)?)
+            Kind::Motion(Box::new(motion(Some(mode), words, dialect)?))
         }
         ('G', 20) | ('G', 30) => {
             let mode = if number == 20 { MotionMode::ArcCw } else { MotionMode::ArcCcw };
             words.only(ARC_WORDS, &name)?;
-            Kind::Motion(motion(Some(mode), words)?)
+            Kind::Motion(Box::new(motion(Some(mode), words, dialect)?))
         }
         ('G', 150) => no_words(Kind::Polar(false))?,
         ('G', 160) => no_words(Kind::Polar(true))?,
@@ -181,10 +382,15 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
         }
         ('G', 430) | ('G', 440) => {
             words.only("ZH", &name)?;
-            let h = words.whole('H')?.ok_or_else(|| {
-                Diagnostic::error(span, format!("{name} needs an H word: the tool length offset register"))
-                    .with_help(format!("write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset"))
-            })?;
+            // Without H, LinuxCNC uses the loaded tool's offset; so does the lenient dialect (pass 04).
+            let h = words.whole('H')?;
+            if h.is_none() && dialect == Dialect::Strict {
+                return Err(Diagnostic::error(
+                    span,
+                    format!("{name} needs an H word: the tool length offset register"),
+                )
+                .with_help(format!("write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset")));
+            }
             Kind::ToolLength { positive: number == 430, z: words.get('Z'), h }
         }
         ('G', 490) => no_words(Kind::ToolLengthCancel)?,
@@ -229,12 +435,115 @@ fn code(letter: char, value: Value, words: &Words) -> Result<Kind, Diagnostic> {
                 _ => no_words(Kind::Machine { code, s: None, t: None })?,
             }
         }
-        _ => return Err(omitted_or_unknown(letter, number, &name, span)),
+        _ if dialect == Dialect::Lenient => lenient_code(letter, number, &name, span, words)?,
+        _ => {
+            let mut diagnostic = omitted_or_unknown(letter, number, &name, span);
+            if words_of(letter, number, Dialect::Lenient).is_some() {
+                let help = diagnostic.help.take().unwrap_or_default();
+                diagnostic.help = Some(format!("{help}; or run with --lenient, which accepts {name}"));
+            }
+            return Err(diagnostic);
+        }
     };
     Ok(kind)
 }
 
-fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic> {
+/// The codes only the lenient dialect accepts.
+fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words) -> Result<Kind, Diagnostic> {
+    if let Some(allowed) = words_of(letter, number, Dialect::Lenient) {
+        words.only(allowed, name)?;
+    }
+    let kind = match (letter, number) {
+        ('M', 20) => Kind::End,
+        ('G', 40) => {
+            let p = words.get('P').ok_or_else(|| {
+                Diagnostic::error(span, "G04 needs a P word: the dwell in seconds").with_help("write e.g. G04 P0.5")
+            })?;
+            if p.value < 0.0 {
+                return Err(Diagnostic::error(p.span, "a dwell cannot be negative"));
+            }
+            Kind::Dwell(p.value)
+        }
+        ('G', 610) => Kind::NoEffect("G61"),
+        ('G', 611) => Kind::NoEffect("G61.1"),
+        ('G', 640) => Kind::NoEffect("G64"),
+        ('G', 911) => Kind::NoEffect("G91.1"),
+        ('G', 940) => Kind::NoEffect("G94"),
+        ('M', 190) => Kind::NoEffect("M19"),
+        ('M', 310) => Kind::NoEffect("M31"),
+        ('M', 330) => Kind::NoEffect("M33"),
+        ('G', 800) => Kind::CycleCancel,
+        ('G', 980) => Kind::CycleRetract(Retract::Initial),
+        ('G', 990) => Kind::CycleRetract(Retract::RPlane),
+        ('G', 280) => Kind::Home { reference: Reference::Home, via: words.axes("XYZ") },
+        ('G', 300) => Kind::Home { reference: Reference::Second, via: words.axes("XYZ") },
+        ('G', 530) => Kind::MachineMove(Box::new(motion(None, words, Dialect::Lenient)?)),
+        ('G', 100) => {
+            let relative =
+                match words.whole('L')? {
+                    Some(2) => false,
+                    Some(20) => true,
+                    _ => return Err(Diagnostic::error(span, "G10 sets work offsets with L2 or L20 only").with_help(
+                        "G10 L2 P1 X.. Y.. Z.. sets G54's origin; G10 L20 P1 X.. makes the current position read X..",
+                    )),
+                };
+            let entry = match words.whole('P')? {
+                Some(p) if p <= 6 => p as u8,
+                _ => {
+                    return Err(Diagnostic::error(span, "G10 needs P0 (the offset in force) to P6 (G59)")
+                        .with_help("P1 is G54, P2 G55, ... P6 G59"))
+                }
+            };
+            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative }
+        }
+        ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Kind::Cycle(Box::new(cycle(number, span, words)?)),
+        _ => return Err(lenient_refusal(letter, number, name, span)),
+    };
+    Ok(kind)
+}
+
+fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
+    let code = match number {
+        730 => CycleCode::ChipBreak,
+        810 => CycleCode::Drill,
+        820 => CycleCode::DrillDwell,
+        830 => CycleCode::Peck,
+        850 => CycleCode::Bore,
+        860 => CycleCode::BoreSpindleStop,
+        _ => CycleCode::BoreDwell,
+    };
+    let repeat = match (words.whole('L')?, words.whole('K')?) {
+        (Some(_), Some(_)) => {
+            return Err(Diagnostic::error(span, "a cycle takes L or K (repeats), not both"));
+        }
+        (l, k) => l.or(k).unwrap_or(1),
+    };
+    let q = words.get('Q');
+    if let Some(q) = q.filter(|q| q.value <= 0.0) {
+        return Err(Diagnostic::error(q.span, "the peck depth Q must be greater than zero"));
+    }
+    if let Some(f) = words.get('F').filter(|f| f.value <= 0.0) {
+        return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
+    }
+    Ok(Cycle { code, target: words.axes("XYZ"), r: words.get('R'), q, p: words.get('P'), repeat, feed: words.get('F') })
+}
+
+/// What the lenient dialect still refuses, with why.
+fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnostic {
+    let why = match (letter, number) {
+        ('G', 740 | 840) => "tapping cycles need the spindle synchronised with the feed, which ger does not model",
+        ('G', 760 | 870 | 880) => "this boring cycle differs too much between controllers",
+        ('G', 930) => "inverse-time feed (G93) is not supported: feeds are per minute",
+        ('G', 901) => "absolute arc centres (G90.1) are not supported: ger's I/J/K are relative to the start",
+        ('G', 380..=389) | ('G', 310) => "probing needs a real machine",
+        ('G', 650 | 660 | 670) => "Fanuc macro calls are not supported",
+        ('M', 470) => "repeating the whole program is not supported; use a subprogram with M98 P.. L..",
+        _ => return omitted_or_unknown(letter, number, name, span),
+    };
+    Diagnostic::error(span, format!("{name} is not accepted: {why}"))
+}
+
+fn motion(mode: Option<MotionMode>, words: &Words, dialect: Dialect) -> Result<Motion, Diagnostic> {
     let motion = Motion {
         mode,
         target: words.axes("XYZ"),
@@ -249,7 +558,8 @@ fn motion(mode: Option<MotionMode>, words: &Words) -> Result<Motion, Diagnostic>
     if let Some(f) = motion.feed.filter(|f| f.value <= 0.0) {
         return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
     }
-    if mode == Some(MotionMode::Rapid) {
+    // LinuxCNC reads F on a rapid as the feed for later moves; so does the lenient dialect.
+    if mode == Some(MotionMode::Rapid) && dialect == Dialect::Strict {
         if let Some(f) = motion.feed {
             return Err(Diagnostic::error(f.span, "F is not allowed on a G00 (rapid) move")
                 .with_help("rapids run at the machine's rapid rate; put F on the next G01/G02/G03"));
@@ -293,8 +603,8 @@ fn omitted_or_unknown(letter: char, number: u32, name: &str, span: Span) -> Diag
 fn stray_word(words: &Words) -> Diagnostic {
     let (letter, value) = words.list[0];
     let (message, help) = match letter {
-        'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000"),
-        'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2"),
+        'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000, or run with --lenient"),
+        'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2, or run with --lenient"),
         'P' | 'L' => ("P and L words go with M98", "write e.g. M98 P100 L2"),
         'H' => ("an H word goes with G43 or G44", "write e.g. G43 H1"),
         'D' => ("a D word goes with G41 or G42", "write e.g. G41 D1"),
@@ -420,6 +730,21 @@ mod tests {
     }
 
     #[test]
+    fn move_words_after_a_code_that_takes_none_are_a_move() {
+        let got = parsed("G91 X20 F5\nG54 X0 Y0\nM08 Z1");
+        assert_eq!(got.len(), 6);
+        assert_eq!(got[0], "1:1 Distance(Incremental)");
+        assert!(got[1].starts_with("1:5 Motion(Motion { mode: None, target: Axes { x: Some(Value { value: 20.0"));
+        assert!(got[1].contains("feed: Some(Value { value: 5.0, span: Span { line: 1, col: 9, len: 2 } })"));
+        assert_eq!(got[2], "2:1 Offset { code: WorkOffset(1), axes: Axes { x: None, y: None, z: None } }");
+        assert!(got[3].starts_with("2:5 Motion"));
+        assert!(got[5].starts_with("3:5 Motion"));
+        // Codes that take axis words keep them; other words are still errors.
+        assert!(parsed("G52 X1")[0].starts_with("1:1 Offset { code: G52"));
+        assert_eq!(parsed("G17 P1"), ["1:5: error: P is not allowed with G17"]);
+    }
+
+    #[test]
     fn codes_take_their_words() {
         assert_eq!(parsed("M98 P100 L3"), ["1:1 Call { program: 100, repeat: 3 }"]);
         assert_eq!(parsed("M98 P7"), ["1:1 Call { program: 7, repeat: 1 }"]);
@@ -432,7 +757,6 @@ mod tests {
     #[test]
     fn bad_statements_are_diagnosed_and_dropped() {
         assert_eq!(parsed("G00 X1 F10"), ["1:8: error: F is not allowed on a G00 (rapid) move"]);
-        assert_eq!(parsed("G17 X1"), ["1:5: error: X is not allowed with G17"]);
         assert_eq!(parsed("G01 X1 X2"), ["1:8: error: X appears twice in one statement"]);
         assert_eq!(parsed("G02 X1 R1 I1"), ["1:8: error: an arc takes either R or I/J/K, not both"]);
         assert_eq!(

@@ -164,6 +164,14 @@ impl Units {
         }
     }
 
+    /// How lengths in this unit are labelled in messages.
+    pub fn abbreviation(self) -> &'static str {
+        match self {
+            Units::Inch => "in",
+            Units::Mm => "mm",
+        }
+    }
+
     /// Output precision: 4 decimals in inches, 3 in millimetres.
     pub fn decimals(self) -> usize {
         match self {
@@ -262,6 +270,78 @@ impl Machine {
     }
 }
 
+/// Which G-code ger reads: the GER manual's (strict), or that plus what CAM
+/// programs and controllers commonly emit (lenient).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Dialect {
+    #[default]
+    Strict,
+    Lenient,
+}
+
+/// The canned drilling cycles of the lenient dialect, with LinuxCNC's meaning.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleCode {
+    /// G73: drilling with chip breaking (short retracts between pecks).
+    ChipBreak,
+    /// G81: drilling.
+    Drill,
+    /// G82: drilling with a dwell at the bottom.
+    DrillDwell,
+    /// G83: peck drilling (full retracts between pecks).
+    Peck,
+    /// G85: boring, feed out.
+    Bore,
+    /// G86: boring, spindle stop, rapid out.
+    BoreSpindleStop,
+    /// G89: boring, dwell, feed out.
+    BoreDwell,
+}
+
+impl CycleCode {
+    pub fn code(self) -> &'static str {
+        match self {
+            CycleCode::ChipBreak => "G73",
+            CycleCode::Drill => "G81",
+            CycleCode::DrillDwell => "G82",
+            CycleCode::Peck => "G83",
+            CycleCode::Bore => "G85",
+            CycleCode::BoreSpindleStop => "G86",
+            CycleCode::BoreDwell => "G89",
+        }
+    }
+}
+
+/// A canned cycle at one position (X/Y), down to Z from the R plane.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cycle {
+    pub code: CycleCode,
+    pub target: Axes,
+    pub r: Option<Value>,
+    /// Peck depth (G73, G83).
+    pub q: Option<Value>,
+    /// Dwell in seconds (G82, G89).
+    pub p: Option<Value>,
+    /// L (or K): how many times; in G91 each repeat steps X/Y again.
+    pub repeat: u32,
+    pub feed: Option<Value>,
+}
+
+/// Where a canned cycle retracts to: G98, the Z where the cycles began; G99, the R plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Retract {
+    #[default]
+    Initial,
+    RPlane,
+}
+
+/// G28 goes to machine zero, G30 to the configured second reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reference {
+    Home,
+    Second,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum WizardArg {
     Number(f64),
@@ -270,7 +350,9 @@ pub enum WizardArg {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Kind {
-    Motion(Motion),
+    /// Boxed: moves are most statements, and a small `Statement` is cheap to
+    /// pass from stage to stage.
+    Motion(Box<Motion>),
     Plane(Plane),
     Units(Units),
     Distance(Distance),
@@ -280,11 +362,12 @@ pub enum Kind {
         code: Offset,
         axes: Axes,
     },
-    /// G43 (positive) / G44 with an optional Z to move to and the H register.
+    /// G43 (positive) / G44 with an optional Z to move to and the H register
+    /// (none: the loaded tool's, lenient dialect only, settled in pass 04).
     ToolLength {
         positive: bool,
         z: Option<Value>,
-        h: u32,
+        h: Option<u32>,
     },
     /// G49.
     ToolLengthCancel,
@@ -315,5 +398,37 @@ pub enum Kind {
     Wizard {
         name: String,
         args: Vec<WizardArg>,
+    },
+
+    // The lenient dialect's codes; the strict parser never makes these.
+    /// G04 Pn: dwell n seconds. An output code.
+    Dwell(f64),
+    /// S alone: the speed for the next M03/M04, or a new speed now if the spindle turns.
+    SpindleSpeed(f64),
+    /// T alone: the tool the next M06 loads.
+    ToolSelect(u32),
+    /// Codes with no effect on the toolpath (G61, G61.1, G64, G94, G91.1; M19
+    /// spindle orient, M31/M33 chip conveyor); pass 00 drops them.
+    NoEffect(&'static str),
+    /// G80: the end of a series of canned cycles.
+    CycleCancel,
+    /// G98/G99.
+    CycleRetract(Retract),
+    Cycle(Box<Cycle>),
+    /// G28/G30: a rapid through `via` (if given) to the reference point, for
+    /// the axes given (all of them if none).
+    Home {
+        reference: Reference,
+        via: Axes,
+    },
+    /// G53: a move in machine coordinates, whatever the offsets and G90/G91.
+    MachineMove(Box<Motion>),
+    /// G10 L2 (`relative` false): entry `entry` of the work-offsets table (0:
+    /// the one in force) is set to the given machine coordinates; G10 L20
+    /// (`relative`): set so that the current position reads as given.
+    SetWorkOffset {
+        entry: u8,
+        axes: Axes,
+        relative: bool,
     },
 }

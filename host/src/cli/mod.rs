@@ -16,7 +16,7 @@ use crate::expand::{Limits, WasmWizards, Wizards};
 use crate::lex::{Lexed, Lexer, TokenKind};
 use crate::parse::parse;
 use crate::passes::{translate, Event, Library, Options, LAST_STAGE};
-use crate::statement::Units;
+use crate::statement::{Dialect, Units};
 use report::{plain_error, read_error, Report};
 
 #[derive(Parser)]
@@ -58,6 +58,10 @@ struct CommonArgs {
     /// The machine's unit, overriding the config file.
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
+    /// Also accept what CAM programs and controllers commonly emit (canned
+    /// cycles, G28/G30/G53, G10, S and T alone, ...), translating it away.
+    #[arg(long)]
+    lenient: bool,
     #[command(flatten)]
     wizards: WizardOptions,
 }
@@ -232,6 +236,9 @@ fn load_config(args: &CommonArgs, input: &Input) -> Result<Config, String> {
             })?
         }
     };
+    if args.lenient {
+        config.dialect = Dialect::Lenient;
+    }
     if let Some(units) = args.units {
         config.units = match units {
             UnitsArg::Inch => Units::Inch,
@@ -254,7 +261,7 @@ fn translate_into(
     wizards: &mut dyn Wizards,
     mut write: impl FnMut(&str) -> io::Result<()>,
 ) -> io::Result<Report> {
-    let library = Library::scanning(|| Library::scan(input.open()));
+    let library = Library::scanning(|| Library::scan(input.open(), config.dialect));
     let options = Options { config, stage, wizards };
     // Before pass 01 the numbers are still in the program's own units, which may be finer.
     let decimals = if stage == 0 { 4 } else { config.units.decimals() };
@@ -369,6 +376,7 @@ fn tokens(path: &Path) -> Result<i32, String> {
                     TokenKind::Str(text) => format!("string   {text:?}"),
                     TokenKind::Comment(text) => format!("comment  {text:?}"),
                     TokenKind::End => "end".to_string(),
+                    TokenKind::BlockDelete => "block-delete".to_string(),
                 };
                 format!("{}:{}\t{kind}\n", s.line, s.col)
             }

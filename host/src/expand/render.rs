@@ -144,7 +144,7 @@ mod tests {
         ];
         let got = shown(&output).unwrap();
         // Comments are checked, then dropped by the parser as in any program.
-        assert_eq!(got, ["G01 X10.5000 Y-0.2500 F300.0000", "Pocket 1.5 \"deep\"", "G91", " X1.0000"]);
+        assert_eq!(got, ["G01 X10.5000 Y-0.2500 F300.0000", "Pocket 1.5 \"deep\"", "G91", "X1.0000"]);
     }
 
     #[test]

@@ -17,7 +17,7 @@ use crate::config::Config;
 use crate::diag::Diagnostic;
 use crate::expand::Wizards;
 use crate::lex::Lexer;
-use crate::parse::parse;
+use crate::parse::parse_in;
 pub use crate::parse::Event;
 use crate::state;
 use crate::statement::Statement;
@@ -125,13 +125,16 @@ pub fn translate<'a, R: BufRead + 'a>(
         }
     };
     let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
-    let parsed = parse(Lexer::new(program));
+    let parsed = parse_in(Lexer::in_dialect(program, config.dialect), config.dialect);
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
     let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
     let stream =
         tapped(Box::new(Stage::new(stream, p02_offsets::Offsets::new(config.offsets.clone(), probe.clone()))), 2);
     let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
-    let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config.units, probe))), 4);
+    let stream = tapped(
+        Box::new(Stage::new(stream, p04_absolute::Absolute::new(config.units, config.machine.second_reference, probe))),
+        4,
+    );
     let stream = Box::new(Stage::new(stream, p05_cutter_comp::CutterComp::new(config)));
     if stage == LAST_STAGE {
         stream
@@ -174,7 +177,7 @@ pub(crate) mod testing {
 
     /// The program after `stage`, one line per statement or diagnostic.
     pub fn run_with(text: &str, config: &Config, stage: u8) -> Vec<String> {
-        let library = Library::scanning(move || Library::scan(text.as_bytes()));
+        let library = Library::scanning(move || Library::scan(text.as_bytes(), config.dialect));
         let emitter = Emitter::new(config.units.decimals(), false);
         let options = Options { config, stage, wizards: &mut NoWizards };
         translate(text.as_bytes(), library, options)

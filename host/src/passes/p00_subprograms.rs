@@ -22,9 +22,9 @@ use crate::config::Config;
 use crate::diag::{Diagnostic, Origin, Span};
 use crate::expand::{Call, Wizards};
 use crate::lex::Lexer;
-use crate::parse::{parse, Event};
+use crate::parse::{parse_in, Event};
 use crate::state::Probe;
-use crate::statement::{Kind, MotionMode, Statement};
+use crate::statement::{Cycle, CycleCode, Dialect, Kind, MotionMode, Statement};
 
 /// How deep subprogram calls may nest before ger calls it runaway recursion.
 pub const MAX_CALL_DEPTH: usize = 32;
@@ -51,11 +51,11 @@ impl<'a> Library<'a> {
     }
 
     /// Reads a whole program and keeps the body of every subprogram in it.
-    pub fn scan(program: impl BufRead) -> HashMap<u32, Body> {
+    pub fn scan(program: impl BufRead, dialect: Dialect) -> HashMap<u32, Body> {
         let mut bodies = HashMap::new();
         let mut current: Option<(u32, Vec<Statement>)> = None;
         let mut first = true;
-        for event in parse(Lexer::new(program)) {
+        for event in parse_in(Lexer::in_dialect(program, dialect), dialect) {
             let Event::Statement(statement) = event else {
                 continue;
             };
@@ -114,6 +114,8 @@ pub struct Subprograms<'a, I> {
     ended: bool,
     warned_after_end: bool,
     motion: MotionMode,
+    /// The canned cycle a bare position repeats, until G80 or a motion code.
+    cycle: Option<CycleCode>,
 }
 
 impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
@@ -129,6 +131,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             ended: false,
             warned_after_end: false,
             motion: MotionMode::Rapid,
+            cycle: None,
         }
     }
 
@@ -270,12 +273,42 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 }
             }
             Kind::Motion(motion) => {
-                match motion.mode {
-                    Some(mode) => self.motion = mode,
-                    None => motion.mode = Some(self.motion),
+                match (motion.mode, self.cycle) {
+                    (Some(mode), _) => {
+                        self.motion = mode;
+                        self.cycle = None;
+                    }
+                    // In a series of canned cycles, a bare position is one more hole.
+                    (None, Some(code)) if motion.moves() => {
+                        let cycle = Cycle {
+                            code,
+                            target: motion.target,
+                            r: motion.radius,
+                            q: None,
+                            p: None,
+                            repeat: 1,
+                            feed: motion.feed,
+                        };
+                        return Some(Event::Statement(statement.with_kind(Kind::Cycle(Box::new(cycle)))));
+                    }
+                    (None, _) => motion.mode = Some(self.motion),
                 }
                 Some(Event::Statement(statement))
             }
+            Kind::MachineMove(motion) => {
+                motion.mode = motion.mode.or(Some(self.motion));
+                Some(Event::Statement(statement))
+            }
+            Kind::Cycle(cycle) => {
+                self.cycle = Some(cycle.code);
+                Some(Event::Statement(statement))
+            }
+            // G80 ends the series; the others change nothing a later pass needs.
+            Kind::CycleCancel => {
+                self.cycle = None;
+                None
+            }
+            Kind::NoEffect(_) => None,
             _ => Some(Event::Statement(statement)),
         }
     }

@@ -1,17 +1,21 @@
 //! Pass 01: units. G20/G21 say what unit the program is written in; this pass
 //! converts every length (X Y Z, I J K, R, F, G52/G92 values, G43/G44 Z) to
 //! the machine's unit and drops the G20/G21 statements. Until the program says
-//! otherwise it is taken to be in the machine's unit. The units may not change
-//! while cutter radius compensation (G41/G42) is on: the radius is in force.
+//! otherwise it is taken to be in the machine's unit. In polar mode (G16) the
+//! word for the plane's second axis is an angle, and stays as it is. The units
+//! may not change while cutter radius compensation (G41/G42) is on: the radius
+//! is in force.
 
 use super::{Out, Pass};
 use crate::diag::Diagnostic;
 use crate::state::Probe;
-use crate::statement::{self, Kind, Statement, Value};
+use crate::statement::{self, Kind, Plane, Statement, Value};
 
 pub struct Units {
     machine: statement::Units,
     program: statement::Units,
+    polar: bool,
+    plane: Plane,
     /// G41/G42 in force (until G40).
     comp: bool,
     probe: Probe,
@@ -19,7 +23,7 @@ pub struct Units {
 
 impl Units {
     pub fn new(machine: statement::Units, probe: Probe) -> Units {
-        Units { machine, program: machine, comp: false, probe }
+        Units { machine, program: machine, polar: false, plane: Plane::XY, comp: false, probe }
     }
 }
 
@@ -45,14 +49,29 @@ impl Pass for Units {
                 self.probe.borrow_mut().program_units = *units;
                 return;
             }
+            Kind::Polar(on) => self.polar = *on,
+            Kind::Plane(plane) => self.plane = *plane,
             Kind::Motion(m) if factor != 1.0 => {
-                m.target = m.target.map(|_, v| v * factor);
+                let angle = if self.polar { Some(self.plane.axes().1) } else { None };
+                m.target = m.target.map(|axis, v| if Some(axis) == angle { v } else { v * factor });
                 m.centre = m.centre.map(|_, v| v * factor);
                 scale(&mut m.radius);
                 scale(&mut m.feed);
             }
-            Kind::Offset { axes, .. } => *axes = axes.map(|_, v| v * factor),
+            Kind::Offset { axes, .. } | Kind::SetWorkOffset { axes, .. } | Kind::Home { via: axes, .. } => {
+                *axes = axes.map(|_, v| v * factor)
+            }
             Kind::ToolLength { z, .. } => scale(z),
+            Kind::MachineMove(m) => {
+                m.target = m.target.map(|_, v| v * factor);
+                scale(&mut m.feed);
+            }
+            Kind::Cycle(cycle) => {
+                cycle.target = cycle.target.map(|_, v| v * factor);
+                scale(&mut cycle.r);
+                scale(&mut cycle.q);
+                scale(&mut cycle.feed);
+            }
             _ => {}
         }
         out.push(statement);
@@ -72,6 +91,14 @@ mod tests {
             got,
             ["G01 X1.0000 Y-0.5000 F10.0000", "G02 X2.0000 R0.5000", "G52 X0.1000", "G43 Z0.2000 H1", "G01 X1.0000",]
         );
+    }
+
+    #[test]
+    fn polar_angles_are_not_lengths() {
+        // 25.4 mm at 90 degrees: one inch along Y.
+        assert_eq!(run("G21\nG91\nG16\nG01 X25.4 Y90 F25.4", 3), ["G91", "G01 X0.0000 Y1.0000 F1.0000"]);
+        // In G18 the angle is the X word.
+        assert_eq!(run("G21\nG18\nG91\nG16\nG00 Z25.4 X90", 3).last().unwrap(), "G00 X1.0000 Z0.0000");
     }
 
     #[test]

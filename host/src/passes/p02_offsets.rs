@@ -1,26 +1,29 @@
 //! Pass 02: work offsets. G52, G54..G59 and G92 move program zero (the PRZ);
 //! this pass adds the current PRZ to every absolute coordinate, so the output
-//! is relative to machine zero, and drops the offset statements.
+//! is relative to machine zero, and drops the offset statements. In the
+//! lenient dialect it also takes G10 L2/L20 (which rewrite the work-offsets
+//! table), and puts canned cycles and G28/G30's intermediate points in
+//! machine coordinates; G53 moves are in them already.
 //!
-//! G92 needs the tool's current position, so the pass follows it through
-//! absolute, incremental and polar moves. None of these codes may be used in
-//! polar (G16), incremental (G91) or cutter comp (G41/G42) mode.
+//! None of these codes may be used in polar (G16), incremental (G91) or
+//! cutter comp (G41/G42) mode. G92 and G10 L20 need the tool's position: they
+//! read it from the probe, which pass 04 keeps (passes 01-04 have no
+//! look-ahead, so it is the position before this statement).
 
 use super::{Out, Pass};
 use crate::config::WorkOffsets;
 use crate::diag::Diagnostic;
-use crate::geom::polar_step;
 use crate::state::Probe;
-use crate::statement::{Distance, Kind, Offset, Plane, Statement};
+use crate::statement::{Axes, Distance, Kind, Offset, Statement};
 
 pub struct Offsets {
-    table: WorkOffsets,
+    /// G54..G59, in machine coordinates.
+    table: [[f64; 3]; 6],
     /// Machine coordinates of program zero.
     prz: [f64; 3],
-    /// Machine coordinates of the tool.
-    position: [f64; 3],
+    /// The table entry program zero comes from, if it does (not after G52/G92).
+    entry_in_force: Option<u8>,
     distance: Distance,
-    plane: Plane,
     polar: bool,
     comp: bool,
     probe: Probe,
@@ -29,11 +32,10 @@ pub struct Offsets {
 impl Offsets {
     pub fn new(table: WorkOffsets, probe: Probe) -> Offsets {
         Offsets {
-            table,
+            table: std::array::from_fn(|i| table.entry(i as u8 + 1)),
             prz: [0.0; 3],
-            position: [0.0; 3],
+            entry_in_force: None,
             distance: Distance::Absolute,
-            plane: Plane::XY,
             polar: false,
             comp: false,
             probe,
@@ -51,13 +53,30 @@ impl Offsets {
             None
         }
     }
+
+    /// Moves absolute coordinates from program to machine coordinates.
+    fn to_machine(&self, axes: Axes) -> Axes {
+        match self.distance {
+            Distance::Absolute => axes.map(|axis, v| v + self.prz[axis]),
+            Distance::Incremental => axes,
+        }
+    }
+
+    fn set_prz(&mut self, prz: [f64; 3], entry: Option<u8>) {
+        self.prz = prz;
+        self.entry_in_force = entry;
+        self.probe.borrow_mut().prz = prz;
+    }
 }
 
 impl Pass for Offsets {
     fn statement(&mut self, mut statement: Statement, out: &mut Out) {
+        let comp_refuses = |code: &str| {
+            Diagnostic::error(statement.span, format!("cannot use {code} with cutter radius compensation (G41/G42) on"))
+                .with_help("cancel it with G40 first")
+        };
         match &mut statement.kind {
             Kind::Distance(distance) => self.distance = *distance,
-            Kind::Plane(plane) => self.plane = *plane,
             // Pass 03 refuses G16 outside G91; a refused G16 leaves polar off.
             Kind::Polar(on) => self.polar = *on && self.distance == Distance::Incremental,
             Kind::CutterComp { .. } => self.comp = true,
@@ -69,48 +88,48 @@ impl Pass for Offsets {
                     return;
                 }
                 let given = |axis: usize| axes.get(axis).map_or(0.0, |v| v.value);
-                self.prz = match code {
-                    Offset::G52 => [given(0), given(1), given(2)],
-                    Offset::WorkOffset(entry) => self.table.entry(*entry),
-                    Offset::G92 => std::array::from_fn(|axis| self.position[axis] - given(axis)),
-                };
-                self.probe.borrow_mut().prz = self.prz;
+                let position = self.probe.borrow().position;
+                match code {
+                    Offset::G52 => self.set_prz([given(0), given(1), given(2)], None),
+                    Offset::WorkOffset(entry) => self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry)),
+                    Offset::G92 => self.set_prz(std::array::from_fn(|axis| position[axis] - given(axis)), None),
+                }
                 return;
             }
-            Kind::Motion(motion) => {
-                if self.distance == Distance::Absolute {
-                    motion.target = motion.target.map(|axis, v| v + self.prz[axis]);
-                    for axis in 0..3 {
-                        if let Some(v) = motion.target.get(axis) {
-                            self.position[axis] = v.value;
-                        }
-                    }
-                } else if self.polar {
-                    let (first, second, normal) = self.plane.axes();
-                    if let (Some(r), Some(angle)) = (motion.target.get(first), motion.target.get(second)) {
-                        let (a, b) = polar_step(r.value, angle.value);
-                        self.position[first] += a;
-                        self.position[second] += b;
-                    }
-                    if let Some(v) = motion.target.get(normal) {
-                        self.position[normal] += v.value;
-                    }
-                } else {
-                    for axis in 0..3 {
-                        if let Some(v) = motion.target.get(axis) {
-                            self.position[axis] += v.value;
-                        }
+            Kind::SetWorkOffset { entry, axes, relative } => {
+                if self.comp {
+                    return out.error(&statement, comp_refuses("G10"));
+                }
+                let entry = if *entry == 0 { self.entry_in_force.unwrap_or(1) } else { *entry };
+                let position = self.probe.borrow().position;
+                let row = &mut self.table[usize::from(entry - 1)];
+                for (axis, value) in row.iter_mut().enumerate() {
+                    if let Some(v) = axes.get(axis) {
+                        *value = if *relative { position[axis] - v.value } else { v.value };
                     }
                 }
+                if self.entry_in_force == Some(entry) {
+                    self.set_prz(self.table[usize::from(entry - 1)], Some(entry));
+                }
+                return;
             }
-            Kind::ToolLength { z: Some(z), .. } => {
-                if self.distance == Distance::Absolute {
-                    z.value += self.prz[2];
-                    self.position[2] = z.value;
-                } else {
-                    self.position[2] += z.value;
+            Kind::Motion(motion) => motion.target = self.to_machine(motion.target),
+            Kind::ToolLength { z: Some(z), .. } if self.distance == Distance::Absolute => z.value += self.prz[2],
+            Kind::Cycle(cycle) => {
+                cycle.target = self.to_machine(cycle.target);
+                // R is a Z level like the bottom, Z.
+                if let (Distance::Absolute, Some(r)) = (self.distance, &mut cycle.r) {
+                    r.value += self.prz[2];
                 }
             }
+            Kind::Home { reference, via } => {
+                if self.comp {
+                    let code = if *reference == crate::statement::Reference::Home { "G28" } else { "G30" };
+                    return out.error(&statement, comp_refuses(code));
+                }
+                *via = self.to_machine(*via);
+            }
+            Kind::MachineMove(_) if self.comp => return out.error(&statement, comp_refuses("G53")),
             _ => {}
         }
         out.push(statement);

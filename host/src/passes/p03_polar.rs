@@ -47,6 +47,12 @@ impl Pass for Polar {
                 out.error(&statement, diagnostic);
                 return;
             }
+            Kind::Cycle(_) | Kind::Home { .. } | Kind::MachineMove(_) if self.on => {
+                let diagnostic = Diagnostic::error(statement.span, "not allowed in polar coordinates (G16)")
+                    .with_help("turn polar coordinates off with G15 first");
+                out.error(&statement, diagnostic);
+                return;
+            }
             Kind::Distance(distance) => self.distance = *distance,
             Kind::Plane(plane) => self.plane = *plane,
             Kind::Motion(motion) if self.on => {

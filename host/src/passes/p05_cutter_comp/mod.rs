@@ -486,7 +486,7 @@ fn hold(statement: Statement, step: Step, offset: Segment, start: Point) -> Held
 
 /// A move made by `statement` (which keeps its line and call chain).
 fn moving(statement: &Statement, motion: Motion) -> Statement {
-    statement.with_kind(Kind::Motion(motion))
+    statement.with_kind(Kind::Motion(Box::new(motion)))
 }
 
 /// The move's path in the plane; `None` for a straight move that does not

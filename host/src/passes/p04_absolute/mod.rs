@@ -7,10 +7,12 @@
 //! that only sets F disappears.
 
 use super::{Out, Pass};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, Span};
 use crate::geom::{centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
-use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Statement, Units, Value};
+use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Units, Value};
+
+mod cycles;
 
 pub struct Absolute {
     units: Units,
@@ -21,10 +23,17 @@ pub struct Absolute {
     /// The feed the output last said, so F is written only when it changes.
     feed_written: Option<f64>,
     probe: Probe,
+    /// G30's point, in machine coordinates.
+    second_reference: [f64; 3],
+    /// The lenient dialect's S and T words alone: a speed and a tool waiting
+    /// for the M03/M04 and M06 that use them.
+    speed: Option<f64>,
+    selected_tool: Option<u32>,
+    cycles: cycles::CycleState,
 }
 
 impl Absolute {
-    pub fn new(units: Units, probe: Probe) -> Absolute {
+    pub fn new(units: Units, second_reference: [f64; 3], probe: Probe) -> Absolute {
         Absolute {
             units,
             distance: Distance::Absolute,
@@ -33,6 +42,10 @@ impl Absolute {
             feed: None,
             feed_written: None,
             probe,
+            second_reference,
+            speed: None,
+            selected_tool: None,
+            cycles: cycles::CycleState::default(),
         }
     }
 
@@ -44,10 +57,9 @@ impl Absolute {
     }
 
     /// The arc's centre offsets from its start (I/J/K), or why it has none.
-    fn arc_centre(&self, motion: &Motion, end: [f64; 3], statement: &Statement) -> Result<Axes, Diagnostic> {
+    fn arc_centre(&self, motion: &Motion, end: [f64; 3], span: Span) -> Result<Axes, Diagnostic> {
         let (a, b, normal) = self.plane.axes();
         let letters = ['I', 'J', 'K'];
-        let span = statement.span;
         if let Some(v) = motion.centre.get(normal) {
             let plane = self.plane.code();
             let message = format!("{} is not used for arcs in the {plane} plane", letters[normal]);
@@ -57,6 +69,8 @@ impl Absolute {
         let start = (self.position[a], self.position[b]);
         let stop = (end[a], end[b]);
         let tolerance = self.units.arc_tolerance();
+        // Messages show lengths as the output would: in machine units, rounded.
+        let (u, d) = (self.units.abbreviation(), self.units.decimals());
         if let Some(r) = motion.radius {
             let ccw = motion.mode == Some(MotionMode::ArcCcw);
             let centre = centre_from_radius(start, stop, r.value, ccw, tolerance).map_err(|err| match err {
@@ -64,9 +78,12 @@ impl Absolute {
                     .with_help(format!("give the centre with {} and {} instead", letters[a], letters[b])),
                 RadiusArcError::TooShort { chord } => Diagnostic::error(
                     r.span,
-                    format!("R{} is too small: the arc's end is {chord:.4} away from its start", r.value.abs()),
+                    format!(
+                        "R is too small for this arc: its end is {chord:.d$} {u} from its start, more than twice the radius ({:.d$} {u})",
+                        r.value.abs()
+                    ),
                 )
-                .with_help(format!("the radius must be at least half that distance, {:.4}", chord / 2.0)),
+                .with_help(format!("the radius must be at least half that distance, {:.d$} {u}", chord / 2.0)),
             })?;
             let mut offsets = Axes::default();
             *offsets.slot(a) = Some(Value { value: centre.0 - start.0, span: r.span });
@@ -88,9 +105,9 @@ impl Absolute {
         }
         if (start_radius - end_radius).abs() > tolerance {
             let message = format!(
-                "arc end is not on the circle: radius {start_radius:.4} at the start, {end_radius:.4} at the end"
+                "arc end is not on the circle: radius {start_radius:.d$} {u} at the start, {end_radius:.d$} {u} at the end"
             );
-            let help = format!("the two must agree within {tolerance}; check the end point and the centre offsets");
+            let help = format!("the two must agree within {tolerance} {u}; check the end point and the centre offsets");
             return Err(Diagnostic::error(span, message).with_help(help));
         }
         let mut offsets = motion.centre;
@@ -99,50 +116,43 @@ impl Absolute {
         Ok(offsets)
     }
 
-    fn motion(&mut self, mut motion: Motion, statement: &Statement, out: &mut Out) {
+    /// Rewrites a move in place. `Ok(false)`: it only set the feed, drop it.
+    fn motion(&mut self, motion: &mut Motion, span: Span) -> Result<bool, Diagnostic> {
         let mode = motion.mode.expect("pass 00 gives every move its mode");
         if let Some(f) = motion.feed {
             self.feed = Some(f.value);
         }
         if !motion.moves() {
-            return;
+            return Ok(false);
         }
         if mode != MotionMode::Rapid && self.feed.is_none() {
-            let diagnostic =
-                Diagnostic::error(statement.span, format!("{} move before any feed rate (F)", mode.code()))
-                    .with_help(format!("give the feed on this move or before it, e.g. {} ... F10", mode.code()));
-            out.error(statement, diagnostic);
-            return;
+            let diagnostic = Diagnostic::error(span, format!("{} move before any feed rate (F)", mode.code()))
+                .with_help(format!("give the feed on this move or before it, e.g. {} ... F10", mode.code()));
+            return Err(diagnostic);
         }
-        let mut target = Axes::default();
         let mut end = self.position;
         for (axis, end) in end.iter_mut().enumerate() {
-            if let Some(v) = motion.target.get(axis) {
-                let v = self.absolute(axis, v);
+            if let Some(v) = motion.target.slot(axis) {
+                *v = self.absolute(axis, *v);
                 *end = v.value;
-                *target.slot(axis) = Some(v);
             }
         }
         if mode.is_arc() {
-            match self.arc_centre(&motion, end, statement) {
-                Ok(centre) => motion.centre = centre,
-                Err(diagnostic) => return out.error(statement, diagnostic),
-            }
+            motion.centre = self.arc_centre(motion, end, span)?;
             motion.radius = None;
             // An arc states both of its plane's axes, whatever was written.
             let (a, b, _) = self.plane.axes();
             for axis in [a, b] {
-                target.slot(axis).get_or_insert(Value { value: end[axis], span: statement.span });
+                motion.target.slot(axis).get_or_insert(Value { value: end[axis], span });
             }
         }
-        motion.target = target;
         motion.feed = None;
         if mode != MotionMode::Rapid && self.feed != self.feed_written {
             self.feed_written = self.feed;
-            motion.feed = self.feed.map(|value| Value { value, span: statement.span });
+            motion.feed = self.feed.map(|value| Value { value, span });
         }
         self.position = end;
-        out.push(statement.with_kind(Kind::Motion(motion)));
+        Ok(true)
     }
 }
 
@@ -159,6 +169,12 @@ impl Pass for Absolute {
 
 impl Absolute {
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
+        if let Kind::Cycle(cycle) = &statement.kind {
+            if let Err(diagnostic) = self.cycle(cycle, &statement, out) {
+                out.error(&statement, diagnostic);
+            }
+            return;
+        }
         match &mut statement.kind {
             Kind::Distance(distance) => {
                 self.distance = *distance;
@@ -166,15 +182,27 @@ impl Absolute {
             }
             // The output starts in G17; repeating the plane in force says nothing.
             Kind::Plane(plane) if std::mem::replace(&mut self.plane, *plane) == *plane => return,
-            Kind::Motion(motion) => {
-                let motion = std::mem::take(motion);
-                return self.motion(motion, &statement, out);
-            }
-            Kind::ToolLength { z: Some(z), .. } => {
-                *z = self.absolute(2, *z);
-                self.position[2] = z.value;
+            Kind::Motion(motion) => match self.motion(motion, statement.span) {
+                Ok(true) => {}
+                Ok(false) => return,
+                Err(diagnostic) => return out.error(&statement, diagnostic),
+            },
+            Kind::ToolLength { z, h, .. } => {
+                *h = h.or(Some(self.probe.borrow().tool));
+                if let Some(z) = z {
+                    *z = self.absolute(2, *z);
+                    self.position[2] = z.value;
+                }
             }
             Kind::Machine { code, s, t } => {
+                // A speed or tool given alone before (lenient dialect) is used here.
+                if matches!(code, Machine::SpindleCw | Machine::SpindleCcw) {
+                    *s = s.or(self.speed);
+                    self.speed = *s;
+                }
+                if *code == Machine::ToolChange {
+                    *t = t.or(self.selected_tool.take());
+                }
                 let mut probe = self.probe.borrow_mut();
                 match code {
                     Machine::SpindleCw => probe.spindle = Spindle::Clockwise(*s),
@@ -184,9 +212,91 @@ impl Absolute {
                     _ => {}
                 }
             }
+            Kind::SpindleSpeed(speed) => {
+                self.speed = Some(*speed);
+                // A new speed while the spindle turns is said with its direction.
+                let code = match self.probe.borrow().spindle {
+                    Spindle::Clockwise(_) => Machine::SpindleCw,
+                    Spindle::CounterClockwise(_) => Machine::SpindleCcw,
+                    Spindle::Off => return,
+                };
+                let kind = Kind::Machine { code, s: Some(*speed), t: None };
+                return self.rewrite(statement.with_kind(kind), out);
+            }
+            Kind::ToolSelect(tool) => {
+                self.selected_tool = Some(*tool);
+                return;
+            }
+            Kind::CycleRetract(retract) => {
+                self.cycles.retract = *retract;
+                return;
+            }
+            Kind::Home { reference, via } => {
+                let (reference, via) = (*reference, *via);
+                return self.home(reference, via, &statement, out);
+            }
+            Kind::MachineMove(motion) => {
+                // Machine coordinates are absolute whatever G90/G91 says.
+                let distance = std::mem::replace(&mut self.distance, Distance::Absolute);
+                let result = self.motion(motion, statement.span);
+                self.distance = distance;
+                let motion = std::mem::take(motion);
+                match result {
+                    Ok(true) => return out.push(statement.with_kind(Kind::Motion(motion))),
+                    Ok(false) => return,
+                    Err(diagnostic) => return out.error(&statement, diagnostic),
+                }
+            }
             _ => {}
         }
         out.push(statement);
+    }
+
+    /// A rapid move to `target` (machine coordinates), if it goes anywhere.
+    fn rapid_to(&mut self, target: [f64; 3], statement: &Statement, out: &mut Out) {
+        self.move_to(MotionMode::Rapid, target, statement, out);
+    }
+
+    /// A straight move in machine coordinates, written only when it moves.
+    fn move_to(&mut self, mode: MotionMode, target: [f64; 3], statement: &Statement, out: &mut Out) {
+        let mut motion = Motion { mode: Some(mode), ..Motion::default() };
+        for (axis, (&to, &from)) in target.iter().zip(&self.position).enumerate() {
+            if to != from {
+                *motion.target.slot(axis) = Some(Value { value: to, span: statement.span });
+            }
+        }
+        if !motion.moves() {
+            return;
+        }
+        if mode != MotionMode::Rapid && self.feed != self.feed_written {
+            self.feed_written = self.feed;
+            motion.feed = self.feed.map(|value| Value { value, span: statement.span });
+        }
+        self.position = target;
+        out.push(statement.with_kind(Kind::Motion(Box::new(motion))));
+    }
+
+    /// G28/G30: through the intermediate point, then to the reference, for
+    /// the axes given (all three if none).
+    fn home(&mut self, reference: Reference, via: Axes, statement: &Statement, out: &mut Out) {
+        let mut through = self.position;
+        for (axis, through) in through.iter_mut().enumerate() {
+            if let Some(v) = via.get(axis) {
+                *through = self.absolute(axis, v).value;
+            }
+        }
+        self.rapid_to(through, statement, out);
+        let point = match reference {
+            Reference::Home => [0.0; 3],
+            Reference::Second => self.second_reference,
+        };
+        let mut target = through;
+        for axis in 0..3 {
+            if via.is_empty() || via.get(axis).is_some() {
+                target[axis] = point[axis];
+            }
+        }
+        self.rapid_to(target, statement, out);
     }
 }
 
@@ -228,12 +338,12 @@ mod tests {
     fn arc_errors() {
         assert_eq!(
             run("G02 X1 Y0 I0.3 F1", 4),
-            ["1:1: error: arc end is not on the circle: radius 0.3000 at the start, 0.7000 at the end"]
+            ["1:1: error: arc end is not on the circle: radius 0.3000 in at the start, 0.7000 in at the end"]
         );
         assert_eq!(run("G02 X1 F1", 4), ["1:1: error: arc without a centre: give I and J, or R"]);
         assert_eq!(
             run("G02 X3 R1 F1", 4),
-            ["1:8: error: R1 is too small: the arc's end is 3.0000 away from its start"]
+            ["1:8: error: R is too small for this arc: its end is 3.0000 in from its start, more than twice the radius (1.0000 in)"]
         );
     }
 

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Benchmark: ger translating a generated 3D-surfacing program, beside LinuxCNC's
+# rs274 on the same file where it is installed. Reports the best of three runs:
+# wall and CPU time, lines per CPU second and peak memory (CPU time is steadier
+# than wall time on a shared machine).
+#
+#   bench/translate.sh [LINES]     (default 1000000)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+lines=${1:-1000000}
+out=bench/out
+mkdir -p "$out"
+program="$out/surface-$lines.ngc"
+[ -f "$program" ] || python3 bench/gen_surface.py "$lines" > "$program"
+cargo build --release -q -p ger
+ger=target/release/ger
+measure() { # NAME COMMAND... : the best of 3 runs: wall and CPU seconds, lines/s, peak RSS
+  local name=$1; shift
+  local best="" line
+  for _ in 1 2 3; do
+    /usr/bin/time -o "$out/time" -f "%e %U %S %M" "$@" > /dev/null 2>&1 || true
+    line=$(tail -1 "$out/time")
+    if [ -z "$best" ] || awk -v a="$line" -v b="$best" 'BEGIN { split(a, x, " "); split(b, y, " "); exit !(x[2] + x[3] < y[2] + y[3]) }'; then
+      best=$line
+    fi
+  done
+  awk -v n="$name" -v r="$best" -v l="$lines" 'BEGIN {
+    split(r, f, " "); cpu = f[2] + f[3]; if (cpu <= 0) cpu = 0.01
+    printf "%-12s %6.2f s wall %6.2f s cpu  %10.0f lines/s (cpu)  %6.1f MB peak\n", n, f[1], cpu, l / cpu, f[4] / 1024 }'
+}
+echo "$lines-line surfacing program ($(du -h "$program" | cut -f1)) on $(nproc) cores"
+measure "ger run" "$ger" run "$program" -o "$out/surface.out.ngc"
+measure "ger check" "$ger" check "$program"
+if command -v rs274 >/dev/null; then
+  measure "rs274 -g" rs274 -g "$program"
+else
+  echo "rs274 not installed (Debian: linuxcnc-uspace): no comparison"
+fi
