@@ -26,12 +26,26 @@ pub struct Config {
 }
 
 /// The machine beyond its unit and tables.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MachineSettings {
     /// G30's second reference point, in machine coordinates (default: machine zero).
     #[serde(default, rename = "g30")]
     pub second_reference: [f64; 3],
+    /// How many times M47 (lenient dialect) runs the program again before it
+    /// ends it: a machine would repeat it for ever.
+    #[serde(default = "one")]
+    pub m47_repeats: u32,
+}
+
+impl Default for MachineSettings {
+    fn default() -> MachineSettings {
+        MachineSettings { second_reference: [0.0; 3], m47_repeats: one() }
+    }
+}
+
+fn one() -> u32 {
+    1
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]

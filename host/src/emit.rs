@@ -100,6 +100,7 @@ impl Emitter {
             }
             Kind::Return => out.push_str("M99"),
             Kind::End => out.push_str("M30"),
+            Kind::Repeat => out.push_str("M47"),
             Kind::Dwell(seconds) => {
                 out.push_str("G04");
                 self.value(out, 'P', Some(Value { value: *seconds, span: statement.span }));

@@ -302,7 +302,7 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 530) => Some("XYZF"),
         ('G', 640) => Some("PQ"),
         ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Some("XYZRQPLKF"),
-        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 190 | 310 | 330) => Some(""),
+        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 190 | 310 | 330 | 470) => Some(""),
         _ => None,
     }
 }
@@ -455,6 +455,7 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
     }
     let kind = match (letter, number) {
         ('M', 20) => Kind::End,
+        ('M', 470) => Kind::Repeat,
         ('G', 40) => {
             let p = words.get('P').ok_or_else(|| {
                 Diagnostic::error(span, "G04 needs a P word: the dwell in seconds").with_help("write e.g. G04 P0.5")
@@ -537,7 +538,6 @@ fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnos
         ('G', 901) => "absolute arc centres (G90.1) are not supported: ger's I/J/K are relative to the start",
         ('G', 380..=389) | ('G', 310) => "probing needs a real machine",
         ('G', 650 | 660 | 670) => "Fanuc macro calls are not supported",
-        ('M', 470) => "repeating the whole program is not supported; use a subprogram with M98 P.. L..",
         _ => return omitted_or_unknown(letter, number, name, span),
     };
     Diagnostic::error(span, format!("{name} is not accepted: {why}"))

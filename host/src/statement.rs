@@ -395,6 +395,8 @@ pub enum Kind {
     Return,
     /// M30.
     End,
+    /// M47 (lenient dialect): run the program again from its start.
+    Repeat,
     Wizard {
         name: String,
         args: Vec<WizardArg>,

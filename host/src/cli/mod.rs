@@ -14,7 +14,7 @@ use crate::config::Config;
 use crate::emit::{preamble, Emitter};
 use crate::expand::{Limits, WasmWizards, Wizards};
 use crate::lex::{Lexed, Lexer, TokenKind};
-use crate::parse::parse;
+use crate::parse::{parse, parse_in};
 use crate::passes::{translate, Event, Library, Options, LAST_STAGE};
 use crate::statement::{Dialect, Units};
 use report::{plain_error, read_error, Report};
@@ -261,7 +261,9 @@ fn translate_into(
     wizards: &mut dyn Wizards,
     mut write: impl FnMut(&str) -> io::Result<()>,
 ) -> io::Result<Report> {
-    let library = Library::scanning(|| Library::scan(input.open(), config.dialect));
+    let dialect = config.dialect;
+    let library = Library::scanning(|| Library::scan(input.open(), dialect))
+        .with_restart(move || Box::new(parse_in(Lexer::in_dialect(input.open(), dialect), dialect)));
     let options = Options { config, stage, wizards };
     // Before pass 01 the numbers are still in the program's own units, which may be finer.
     let decimals = if stage == 0 { 4 } else { config.units.decimals() };

@@ -177,7 +177,9 @@ pub(crate) mod testing {
 
     /// The program after `stage`, one line per statement or diagnostic.
     pub fn run_with(text: &str, config: &Config, stage: u8) -> Vec<String> {
-        let library = Library::scanning(move || Library::scan(text.as_bytes(), config.dialect));
+        let dialect = config.dialect;
+        let library = Library::scanning(move || Library::scan(text.as_bytes(), dialect))
+            .with_restart(move || Box::new(parse_in(Lexer::in_dialect(text.as_bytes(), dialect), dialect)));
         let emitter = Emitter::new(config.units.decimals(), false);
         let options = Options { config, stage, wizards: &mut NoWizards };
         translate(text.as_bytes(), library, options)

@@ -37,17 +37,28 @@ type Body = Arc<Vec<Statement>>;
 pub struct Library<'a> {
     bodies: HashMap<u32, Body>,
     scan: Option<Box<dyn FnOnce() -> HashMap<u32, Body> + 'a>>,
+    /// Reads the program again from its start, for M47.
+    reopen: Option<Reopen<'a>>,
 }
+
+type Reopen<'a> = Box<dyn FnMut() -> Box<dyn Iterator<Item = Event> + 'a> + 'a>;
 
 impl<'a> Library<'a> {
     /// Only the subprograms defined before they are called.
     pub fn empty() -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: None }
+        Library { bodies: HashMap::new(), scan: None, reopen: None }
     }
 
     /// `scan` is run the first time a call names a program not seen yet.
     pub fn scanning(scan: impl FnOnce() -> HashMap<u32, Body> + 'a) -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: Some(Box::new(scan)) }
+        Library { bodies: HashMap::new(), scan: Some(Box::new(scan)), reopen: None }
+    }
+
+    /// `reopen` parses the program again from its start: M47 (lenient
+    /// dialect) repeats the program by reading it again, not by keeping it.
+    pub fn with_restart(mut self, reopen: impl FnMut() -> Box<dyn Iterator<Item = Event> + 'a> + 'a) -> Library<'a> {
+        self.reopen = Some(Box::new(reopen));
+        self
     }
 
     /// Reads a whole program and keeps the body of every subprogram in it.
@@ -103,6 +114,10 @@ pub struct WizardRuntime<'a> {
 
 pub struct Subprograms<'a, I> {
     upstream: I,
+    /// The program read again after an M47, in place of `upstream`.
+    restarted: Option<Box<dyn Iterator<Item = Event> + 'a>>,
+    /// How many more times M47 may repeat the program.
+    repeats_left: u32,
     library: Library<'a>,
     runtime: WizardRuntime<'a>,
     stack: Vec<Frame>,
@@ -122,6 +137,8 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
     pub fn new(upstream: I, library: Library<'a>, runtime: WizardRuntime<'a>) -> Subprograms<'a, I> {
         Subprograms {
             upstream,
+            restarted: None,
+            repeats_left: runtime.config.machine.m47_repeats,
             library,
             runtime,
             stack: Vec::new(),
@@ -203,6 +220,18 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 self.ended = true;
                 Some(Event::Statement(statement))
             }
+            Kind::Repeat => {
+                if let Some(reopen) = self.library.reopen.as_mut().filter(|_| self.repeats_left > 0) {
+                    self.repeats_left -= 1;
+                    self.restarted = Some(reopen());
+                    self.seen_first_statement = false;
+                    self.defined.clear();
+                    return None;
+                }
+                // A machine would repeat it for ever; the translation stops here.
+                self.ended = true;
+                Some(Event::Statement(statement.with_kind(Kind::End)))
+            }
             _ => self.run(statement),
         }
     }
@@ -238,6 +267,11 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin, wizard: false });
                 }
                 None
+            }
+            Kind::Repeat => {
+                let diagnostic = Diagnostic::error(statement.span, "M47 inside a subprogram")
+                    .with_help("M47 repeats the main program; a subprogram repeats with M98 P.. L..");
+                Some(error(&statement, diagnostic))
             }
             Kind::End => {
                 let diagnostic = Diagnostic::error(statement.span, "M30 inside a subprogram")
@@ -325,7 +359,7 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
         loop {
             let event = match self.next_from_stack() {
                 Some(statement) => self.run(statement),
-                None => match self.upstream.next() {
+                None => match self.restarted.as_mut().map_or_else(|| self.upstream.next(), |stream| stream.next()) {
                     Some(Event::Statement(statement)) => self.main_statement(statement),
                     Some(diagnostic) => Some(diagnostic),
                     None => {
@@ -345,7 +379,7 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
 
 #[cfg(test)]
 mod tests {
-    use crate::passes::testing::run;
+    use crate::passes::testing::{run, run_with};
 
     #[test]
     fn calls_are_replaced_by_the_body_l_times() {
@@ -386,6 +420,17 @@ mod tests {
         assert_eq!(run("M30\nX1\nY1", 0), ["M30", "2:1: warning: this statement follows M30 and never runs"]);
         assert_eq!(run("M98 P1\nM30\nO1\nM30\nM99", 0)[0], "4:1: error: M30 inside a subprogram");
         assert_eq!(run("M30\nO1\nX1", 0)[1], "2:1: error: O1 has no M99 to end it");
+    }
+
+    #[test]
+    fn m47_repeats_the_program_a_bounded_number_of_times() {
+        let mut config = crate::config::Config { dialect: crate::statement::Dialect::Lenient, ..Default::default() };
+        config.machine.m47_repeats = 2;
+        let got = run_with("O9\nG91\nG00 X1\nM98 P5\nM47\nO5\nY1\nM99", &config, 0);
+        let once = ["G91", "G00 X1.0000", "G00 Y1.0000"];
+        assert_eq!(got, [&once[..], &once[..], &once[..], &["M30"]].concat());
+        // Inside a subprogram it is an error.
+        assert_eq!(run_with("M98 P5\nM30\nO5\nM47\nM99", &config, 0)[0], "4:1: error: M47 inside a subprogram");
     }
 
     #[test]
