@@ -13,5 +13,6 @@ pub mod geom;
 pub mod lex;
 pub mod parse;
 pub mod passes;
+pub mod sim;
 pub mod state;
 pub mod statement;

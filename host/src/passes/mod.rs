@@ -188,4 +188,20 @@ pub(crate) mod testing {
     pub fn run(text: &str, stage: u8) -> Vec<String> {
         run_with(text, &Config::default(), stage)
     }
+
+    /// The statements after the last pass (diagnostics make the test fail).
+    pub fn statements_with(text: &str, config: &Config) -> Vec<Statement> {
+        let library = Library::scanning(move || Library::scan(text.as_bytes()));
+        let options = Options { config, stage: LAST_STAGE, wizards: &mut NoWizards };
+        translate(text.as_bytes(), library, options)
+            .map(|event| match event {
+                Event::Statement(s) => s,
+                Event::Diagnostic(d) => panic!("{d}"),
+            })
+            .collect()
+    }
+
+    pub fn statements(text: &str) -> Vec<Statement> {
+        statements_with(text, &Config::default())
+    }
 }
