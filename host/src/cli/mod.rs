@@ -1,6 +1,7 @@
 //! The command line. The only module that knows about argv, files, standard
 //! streams and terminals; everything else takes readers and returns values.
 
+mod render;
 mod report;
 mod wizard;
 
@@ -37,6 +38,10 @@ enum Command {
     Tokens(InputArg),
     /// Show the parser's view: one statement a line, before any pass.
     Parse(InputArg),
+    /// Simulate the cut and write a picture (2D, 3D), a mesh (STL) or the toolpath.
+    Render(Box<render::RenderArgs>),
+    /// Show the step/direction pulses a stepper controller would get.
+    Pulses(render::PulsesArgs),
     /// Make, build and list wizards.
     #[command(subcommand)]
     Wizard(wizard::WizardCommand),
@@ -140,6 +145,8 @@ pub fn main() -> i32 {
         Command::Check(args) => check(&args),
         Command::Tokens(args) => tokens(&args.file),
         Command::Parse(args) => parse_only(&args.file),
+        Command::Render(args) => render::render(&args),
+        Command::Pulses(args) => render::pulses(&args),
         Command::Wizard(command) => wizard::main(command),
     };
     match result {

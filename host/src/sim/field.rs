@@ -29,7 +29,7 @@ impl HeightField {
     }
 
     pub fn cells(stock: &Stock, cell: f64) -> (usize, usize) {
-        let count = |len: f64| (len / cell).round().clamp(1.0, 1e12) as usize;
+        let count = |len: f64| (len / cell).round().clamp(2.0, 1e12) as usize;
         (count(stock.max[0] - stock.min[0]), count(stock.max[1] - stock.min[1]))
     }
 
