@@ -388,8 +388,15 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
 
 /// Three significant digits, rounded up (so the length quoted does fit).
 fn round_up(x: f64) -> String {
-    let p = 10f64.powf(x.log10().floor() - 2.0);
-    crate::render::label((x / p).ceil() * p)
+    let magnitude = x.log10().floor();
+    let p = 10f64.powf(magnitude - 2.0);
+    let decimals = (2.0 - magnitude).max(0.0) as usize;
+    let text = format!("{:.*}", decimals, (x / p).ceil() * p);
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
 }
 
 pub(crate) fn pulses(args: &PulsesArgs) -> Result<i32, String> {
