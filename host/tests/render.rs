@@ -60,9 +60,9 @@ fn the_top_view_is_darker_where_deeper_and_empty_around_the_stock() {
     for (x, y) in [(0, 0), (399, 0), (0, 299), (5, 150)] {
         assert_eq!(png.at(x, y), [255, 255, 255], "background at {x},{y}");
     }
-    // The stock is placed as `top::placement` says: 2 x 1 in, 16 px padding, 110 px legend, 44 px footer.
-    let scale = ((400.0 - 32.0 - 110.0) / 2.0f64).min((300.0 - 32.0 - 44.0) / 1.0);
-    let left = 16.0 + ((400.0 - 32.0 - 110.0) as i64 - (2.0 * scale).round() as i64) as f64 / 2.0;
+    // The stock is placed as `top::placement` says: 2 x 1 in, 16 px padding, 120 px legend, 44 px footer.
+    let scale = ((400.0 - 32.0 - 120.0) / 2.0f64).min((300.0 - 32.0 - 44.0) / 1.0);
+    let left = 16.0 + ((400.0 - 32.0 - 120.0) as i64 - (2.0 * scale).round() as i64) as f64 / 2.0;
     let top = 16.0 + ((300.0 - 32.0 - 44.0) as i64 - scale.round() as i64) as f64 / 2.0;
     let pixel = |x: f64, y: f64| png.at((left + x * scale) as u32, (top + (1.0 - y) * scale) as u32);
     let uncut = luma(pixel(1.0, 0.9));

@@ -237,6 +237,12 @@ fn write_atomically(path: &PathBuf, out: impl FnOnce(&mut dyn Write) -> io::Resu
         out(&mut writer).map_err(failed)?;
         writer.flush().map_err(failed)?;
     }
+    // A temporary file is private (0600); a picture is not.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        temp.as_file().set_permissions(std::fs::Permissions::from_mode(0o644)).map_err(failed)?;
+    }
     temp.persist(path).map_err(|err| failed(err.error))?;
     Ok(())
 }

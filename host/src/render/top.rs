@@ -10,7 +10,7 @@ pub const SURFACE: [u8; 3] = [238, 226, 198];
 pub const DEEPEST: [u8; 3] = [28, 36, 84];
 
 const PAD: i64 = 16;
-const LEGEND: i64 = 110;
+const LEGEND: i64 = 120;
 const FOOTER: i64 = 44;
 
 /// The colour of a cut `depth` below the top, of `max` in all.
@@ -78,9 +78,18 @@ fn legend(image: &mut Image, max: f64, unit: &str) {
     }
     for (depth, y) in [(0.0, y0), (max / 2.0, y0 + h / 2), (max, y0 + h - 1)] {
         image.fill_rect(x + 18, y, 5, 1, BLACK);
-        font::draw(image, x + 26, y - 7, &label(-depth), 2, BLACK);
+        font::draw(image, x + 26, y - 7, &label(-significant(depth, 3)), 2, BLACK);
     }
     font::draw(image, x + 26, y0 + h + 10, unit, 2, BLACK);
+}
+
+/// `x` to `digits` significant digits.
+fn significant(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let p = 10f64.powi(x.abs().log10().floor() as i32 + 1 - digits);
+    (x / p).round() * p
 }
 
 /// A bar of a round length under the stock, with its length.
