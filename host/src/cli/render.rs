@@ -54,7 +54,7 @@ pub(crate) struct RenderArgs {
     /// scale, or 1/1000 of the stock's longer side].
     #[arg(long, value_name = "LENGTH", value_parser = positive)]
     resolution: Option<f64>,
-    /// A named 3D view.
+    /// A named 3D view: iso, top, bottom, front, back, right, left [default: iso].
     #[arg(long, value_parser = view_name)]
     view: Option<String>,
     /// Degrees about Z the 3D view looks from: 0 front, 90 right [default: 45].
