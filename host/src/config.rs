@@ -23,6 +23,12 @@ pub struct Config {
     pub dialect: Dialect,
     #[serde(default)]
     pub machine: MachineSettings,
+    /// The block the program cuts, for `ger render`.
+    #[serde(default)]
+    pub stock: StockConfig,
+    /// How finely `ger render` simulates.
+    #[serde(default)]
+    pub render: RenderConfig,
 }
 
 /// The machine beyond its unit and tables.
@@ -46,6 +52,31 @@ impl Default for MachineSettings {
 
 fn one() -> u32 {
     1
+}
+
+/// `[stock]`: either `size` (with `origin`) or `margin`; by default a margin.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StockConfig {
+    /// The block's size, in machine units.
+    pub size: Option<[f64; 3]>,
+    /// Where program zero sits, measured from the block's lower-left-bottom
+    /// corner: `[0, 0, height]` puts it on the top lower-left corner.
+    pub origin: Option<[f64; 3]>,
+    /// The bounding box of everything cut below Z=0, plus this on each side
+    /// (top at Z=0). Default: 0.1 in or 2.5 mm.
+    pub margin: Option<f64>,
+}
+
+/// `[render]`.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderConfig {
+    /// Cells per machine unit (the manual's "scale"); default: about 1000
+    /// cells along the stock's longer side.
+    pub scale: Option<f64>,
+    /// MiB the simulation's height field may take (default 2048).
+    pub memory_limit_mb: Option<u64>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
@@ -104,6 +135,8 @@ impl Default for Config {
             tools: default_tools(),
             dialect: Dialect::Strict,
             machine: MachineSettings::default(),
+            stock: StockConfig::default(),
+            render: RenderConfig::default(),
         }
     }
 }
@@ -175,6 +208,20 @@ impl Config {
                     format!("tool {}: diameter must be greater than zero", tool.number),
                 ));
             }
+            if let Some(angle) = tool.tip_angle {
+                if !(angle > 0.0 && angle < 180.0) {
+                    return Err(Diagnostic::error(
+                        at_key("tip_angle"),
+                        format!("tool {}: tip_angle must be between 0 and 180 degrees", tool.number),
+                    ));
+                }
+            }
+            if tool.flute_length.is_some_and(|l| !(l > 0.0 && l.is_finite())) {
+                return Err(Diagnostic::error(
+                    at_key("flute_length"),
+                    format!("tool {}: flute_length must be greater than zero", tool.number),
+                ));
+            }
             if self.tools[..i].iter().any(|t| t.number == tool.number) {
                 return Err(Diagnostic::error(
                     at_key("number"),
@@ -182,7 +229,38 @@ impl Config {
                 ));
             }
         }
+        let stock = &self.stock;
+        let positive = |v: &[f64; 3]| v.iter().all(|x| *x > 0.0 && x.is_finite());
+        if stock.size.is_some() && stock.margin.is_some() {
+            return Err(Diagnostic::error(at_key("margin"), "[stock] takes size (with origin) or margin, not both"));
+        }
+        if stock.size.is_some_and(|size| !positive(&size)) {
+            return Err(Diagnostic::error(at_key("size"), "[stock] size must be three lengths above zero"));
+        }
+        if stock.origin.is_some() && stock.size.is_none() {
+            return Err(Diagnostic::error(at_key("origin"), "[stock] origin needs a size"));
+        }
+        if stock.origin.is_some_and(|o| o.iter().any(|x| !x.is_finite())) {
+            return Err(Diagnostic::error(at_key("origin"), "[stock] origin must be three numbers"));
+        }
+        if stock.margin.is_some_and(|m| !(m >= 0.0 && m.is_finite())) {
+            return Err(Diagnostic::error(at_key("margin"), "[stock] margin must be zero or more"));
+        }
+        if self.render.scale.is_some_and(|s| !(s > 0.0 && s.is_finite())) {
+            return Err(Diagnostic::error(at_key("scale"), "[render] scale must be above zero (cells per unit)"));
+        }
+        if self.render.memory_limit_mb == Some(0) {
+            return Err(Diagnostic::error(at_key("memory_limit_mb"), "[render] memory_limit_mb must be above zero"));
+        }
         Ok(self)
+    }
+
+    /// The stock's margin in machine units: as configured, or 0.1 in / 2.5 mm.
+    pub fn stock_margin(&self) -> f64 {
+        self.stock.margin.unwrap_or(match self.units {
+            Units::Inch => 0.1,
+            Units::Mm => 2.5,
+        })
     }
 
     pub fn tool(&self, number: u32) -> Option<&Tool> {
@@ -251,5 +329,41 @@ tip_angle = 90
 
         let err = Config::from_toml("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = -1\n").unwrap_err();
         assert_eq!(err.span.line, 4);
+    }
+
+    #[test]
+    fn stock_and_render_default_to_a_margin_and_no_scale() {
+        let config = Config::from_toml("").unwrap();
+        assert_eq!(config.stock, StockConfig::default());
+        assert_eq!(config.stock_margin(), 0.1);
+        assert_eq!(Config::from_toml("units = \"mm\"").unwrap().stock_margin(), 2.5);
+        assert_eq!(config.render, RenderConfig::default());
+    }
+
+    #[test]
+    fn stock_by_size_and_origin_or_by_margin() {
+        let config = Config::from_toml("[stock]\nsize = [100, 80, 20]\norigin = [0, 0, 20]\n").unwrap();
+        assert_eq!(config.stock.size, Some([100.0, 80.0, 20.0]));
+        assert_eq!(config.stock.origin, Some([0.0, 0.0, 20.0]));
+        let config = Config::from_toml("[stock]\nmargin = 0.5\n[render]\nscale = 200\nmemory_limit_mb = 64\n").unwrap();
+        assert_eq!(config.stock_margin(), 0.5);
+        assert_eq!(config.render.scale, Some(200.0));
+        assert_eq!(config.render.memory_limit_mb, Some(64));
+    }
+
+    #[test]
+    fn bad_stock_and_render_settings_are_errors() {
+        for (text, line, words) in [
+            ("[stock]\nsize = [1, 1, 1]\nmargin = 1\n", 3, "not both"),
+            ("[stock]\nsize = [1, 0, 1]\n", 2, "above zero"),
+            ("[stock]\norigin = [1, 0, 1]\n", 2, "needs a size"),
+            ("[stock]\nmargin = -1\n", 2, "zero or more"),
+            ("[render]\nscale = 0\n", 2, "above zero"),
+            ("[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 1\ntip_angle = 180\n", 5, "tip_angle"),
+        ] {
+            let err = Config::from_toml(text).unwrap_err();
+            assert_eq!(err.span.line, line, "{text}");
+            assert!(err.message.contains(words), "{}", err.message);
+        }
     }
 }

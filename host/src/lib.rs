@@ -13,5 +13,8 @@ pub mod geom;
 pub mod lex;
 pub mod parse;
 pub mod passes;
+pub mod pulses;
+pub mod render;
+pub mod sim;
 pub mod state;
 pub mod statement;

@@ -1,6 +1,7 @@
 //! The command line. The only module that knows about argv, files, standard
 //! streams and terminals; everything else takes readers and returns values.
 
+mod render;
 mod report;
 mod wizard;
 
@@ -37,6 +38,10 @@ enum Command {
     Tokens(InputArg),
     /// Show the parser's view: one statement a line, before any pass.
     Parse(InputArg),
+    /// Simulate the cut and write a picture (2D, 3D), a mesh (STL) or the toolpath.
+    Render(Box<render::RenderArgs>),
+    /// Show the step/direction pulses a stepper controller would get.
+    Pulses(render::PulsesArgs),
     /// Make, build and list wizards.
     #[command(subcommand)]
     Wizard(wizard::WizardCommand),
@@ -144,6 +149,8 @@ pub fn main() -> i32 {
         Command::Check(args) => check(&args),
         Command::Tokens(args) => tokens(&args.file),
         Command::Parse(args) => parse_only(&args.file),
+        Command::Render(args) => render::render(&args),
+        Command::Pulses(args) => render::pulses(&args),
         Command::Wizard(command) => wizard::main(command),
     };
     match result {
@@ -248,6 +255,13 @@ fn load_config(args: &CommonArgs, input: &Input) -> Result<Config, String> {
     Ok(config)
 }
 
+/// The subprograms of `input`, found by reading it again when a call names
+/// one not seen yet; and the program itself again, for M47.
+fn library(input: &Input, dialect: Dialect) -> Library<'_> {
+    Library::scanning(move || Library::scan(input.open(), dialect))
+        .with_restart(move || Box::new(parse_in(Lexer::in_dialect(input.open(), dialect), dialect)))
+}
+
 pub(crate) fn styled() -> bool {
     io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
 }
@@ -261,9 +275,7 @@ fn translate_into(
     wizards: &mut dyn Wizards,
     mut write: impl FnMut(&str) -> io::Result<()>,
 ) -> io::Result<Report> {
-    let dialect = config.dialect;
-    let library = Library::scanning(|| Library::scan(input.open(), dialect))
-        .with_restart(move || Box::new(parse_in(Lexer::in_dialect(input.open(), dialect), dialect)));
+    let library = library(input, config.dialect);
     let options = Options { config, stage, wizards };
     // Before pass 01 the numbers are still in the program's own units, which may be finer.
     let decimals = if stage == 0 { 4 } else { config.units.decimals() };

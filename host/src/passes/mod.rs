@@ -177,9 +177,7 @@ pub(crate) mod testing {
 
     /// The program after `stage`, one line per statement or diagnostic.
     pub fn run_with(text: &str, config: &Config, stage: u8) -> Vec<String> {
-        let dialect = config.dialect;
-        let library = Library::scanning(move || Library::scan(text.as_bytes(), dialect))
-            .with_restart(move || Box::new(parse_in(Lexer::in_dialect(text.as_bytes(), dialect), dialect)));
+        let library = library(text, config.dialect);
         let emitter = Emitter::new(config.units.decimals(), false);
         let options = Options { config, stage, wizards: &mut NoWizards };
         translate(text.as_bytes(), library, options)
@@ -190,7 +188,29 @@ pub(crate) mod testing {
             .collect()
     }
 
+    /// The subprograms of `text`, and `text` again for M47.
+    fn library(text: &str, dialect: crate::statement::Dialect) -> Library<'_> {
+        Library::scanning(move || Library::scan(text.as_bytes(), dialect))
+            .with_restart(move || Box::new(parse_in(Lexer::in_dialect(text.as_bytes(), dialect), dialect)))
+    }
+
     pub fn run(text: &str, stage: u8) -> Vec<String> {
         run_with(text, &Config::default(), stage)
+    }
+
+    /// The statements after the last pass (diagnostics make the test fail).
+    pub fn statements_with(text: &str, config: &Config) -> Vec<Statement> {
+        let library = library(text, config.dialect);
+        let options = Options { config, stage: LAST_STAGE, wizards: &mut NoWizards };
+        translate(text.as_bytes(), library, options)
+            .map(|event| match event {
+                Event::Statement(s) => s,
+                Event::Diagnostic(d) => panic!("{d}"),
+            })
+            .collect()
+    }
+
+    pub fn statements(text: &str) -> Vec<Statement> {
+        statements_with(text, &Config::default())
     }
 }

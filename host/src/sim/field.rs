@@ -1,0 +1,104 @@
+//! The height field: one Z per XY cell of the stock, stored in square tiles so
+//! that threads can cut different tiles at once.
+
+use super::Stock;
+
+/// Cells along a tile's side.
+pub const TILE: usize = 64;
+
+#[derive(Clone, Debug)]
+pub struct HeightField {
+    pub stock: Stock,
+    /// Cells along X and Y.
+    pub nx: usize,
+    pub ny: usize,
+    /// A cell's side, in machine units.
+    pub cell: f64,
+    pub tiles_x: usize,
+    pub tiles_y: usize,
+    /// Tile-major: tile (tx, ty) holds TILE x TILE cells, row-major inside.
+    pub(super) data: Vec<f32>,
+}
+
+impl HeightField {
+    /// The bytes a field of `cell` over `stock` takes.
+    pub fn bytes(stock: &Stock, cell: f64) -> u128 {
+        let (nx, ny) = Self::cells(stock, cell);
+        let tiles = nx.div_ceil(TILE) as u128 * ny.div_ceil(TILE) as u128;
+        tiles * (TILE * TILE) as u128 * 4
+    }
+
+    pub fn cells(stock: &Stock, cell: f64) -> (usize, usize) {
+        let count = |len: f64| (len / cell).round().clamp(2.0, 1e12) as usize;
+        (count(stock.max[0] - stock.min[0]), count(stock.max[1] - stock.min[1]))
+    }
+
+    /// Uncut stock. The caller has checked the size against the memory limit.
+    pub fn new(stock: Stock, cell: f64) -> HeightField {
+        let (nx, ny) = Self::cells(&stock, cell);
+        // Cells tile the stock exactly: stretch the cell a little if the size is not a multiple.
+        let cell = (stock.max[0] - stock.min[0]) / nx as f64;
+        let (tiles_x, tiles_y) = (nx.div_ceil(TILE), ny.div_ceil(TILE));
+        let data = vec![stock.max[2] as f32; tiles_x * tiles_y * TILE * TILE];
+        HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data }
+    }
+
+    /// A cell's side along Y (equal to `cell` unless the stock's Y is not a multiple of it).
+    pub fn cell_y(&self) -> f64 {
+        (self.stock.max[1] - self.stock.min[1]) / self.ny as f64
+    }
+
+    #[inline]
+    pub(super) fn index(&self, i: usize, j: usize) -> usize {
+        let (ti, tj) = (i / TILE, j / TILE);
+        (tj * self.tiles_x + ti) * TILE * TILE + (j % TILE) * TILE + i % TILE
+    }
+
+    /// The height of cell (i, j): i along X, j along Y, from the stock's lower-left corner.
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.data[self.index(i, j)] as f64
+    }
+
+    pub fn set(&mut self, i: usize, j: usize, z: f64) {
+        let k = self.index(i, j);
+        self.data[k] = z as f32;
+    }
+
+    /// The XY centre of cell (i, j).
+    #[inline]
+    pub fn centre(&self, i: usize, j: usize) -> [f64; 2] {
+        [self.stock.min[0] + (i as f64 + 0.5) * self.cell, self.stock.min[1] + (j as f64 + 0.5) * self.cell_y()]
+    }
+
+    pub fn top(&self) -> f64 {
+        self.stock.max[2]
+    }
+
+    pub fn bottom(&self) -> f64 {
+        self.stock.min[2]
+    }
+
+    /// The volume removed from the stock.
+    pub fn removed_volume(&self) -> f64 {
+        let top = self.top();
+        let mut sum = 0.0;
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                sum += top - self.get(i, j);
+            }
+        }
+        sum * self.cell * self.cell_y()
+    }
+
+    /// The deepest cell's height (the top when nothing was cut).
+    pub fn lowest(&self) -> f64 {
+        let mut low = self.top();
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                low = low.min(self.get(i, j));
+            }
+        }
+        low
+    }
+}
