@@ -7,7 +7,7 @@
 //! output with [`g0`], [`g1`], [`g2`], [`g3`], [`g`], [`m`], [`comment`] and
 //! [`call`].
 //!
-//! ```ignore
+//! ```no_run
 //! use ger_wizard_sdk::*;
 //!
 //! struct Square;
