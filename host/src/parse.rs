@@ -585,7 +585,7 @@ fn omitted_or_unknown(letter: char, number: u32, name: &str, span: Span) -> Diag
             "ger's machine zero is where the tool starts, (0, 0, 0), so no homing move is needed",
             "move there with an ordinary move, e.g. G00 Z0 then G00 X0 Y0 (after G52 X0 Y0 Z0 if offsets are set)",
         ),
-        ('G', 800..=890) if number.is_multiple_of(10) => omitted(
+        ('G', 730 | 800..=890) if number.is_multiple_of(10) => omitted(
             "ger has no canned cycles; controllers disagree too much on them",
             "write the cycle out with G00/G01 moves, or call a wizard that generates them",
         ),
