@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 
+use crate::check::Rule;
 use crate::diag::{Diagnostic, Span};
 use crate::statement::{Dialect, Units};
 
@@ -29,6 +30,9 @@ pub struct Config {
     /// How finely `ger render` simulates.
     #[serde(default)]
     pub render: RenderConfig,
+    /// What `ger check` looks for.
+    #[serde(default)]
+    pub check: CheckConfig,
 }
 
 /// The machine beyond its unit and tables.
@@ -42,12 +46,36 @@ pub struct MachineSettings {
     /// ends it: a machine would repeat it for ever.
     #[serde(default = "one")]
     pub m47_repeats: u32,
+    /// How far each axis travels, in machine units (`ger check` keeps moves inside).
+    pub travel: Option<[f64; 3]>,
+    /// Where machine zero sits in the travel, measured from its lowest corner:
+    /// default `[0, 0, z]`, X and Y at their low end and Z at the top.
+    pub home: Option<[f64; 3]>,
+    /// Rapid (G00) speed in machine units per minute, for run-time estimates:
+    /// default 200 in/min or 5000 mm/min.
+    pub rapid_rate: Option<f64>,
 }
 
 impl Default for MachineSettings {
     fn default() -> MachineSettings {
-        MachineSettings { second_reference: [0.0; 3], m47_repeats: one() }
+        MachineSettings { second_reference: [0.0; 3], m47_repeats: one(), travel: None, home: None, rapid_rate: None }
     }
+}
+
+/// `[check]`: the verifier's thresholds, and the checks turned off.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckConfig {
+    /// Checks not to run, by name (`ger check --allow NAME` adds to them).
+    #[serde(default)]
+    pub allow: Vec<Rule>,
+    /// The smallest arc radius the controller takes, in machine units:
+    /// default 0.001 in or 0.02 mm (twice the arc tolerance, below which
+    /// the translator takes an arc's radius for zero).
+    pub min_arc_radius: Option<f64>,
+    /// How deep a flat endmill may plunge straight down into material, as a
+    /// fraction of its diameter: default 0.5.
+    pub plunge_fraction: Option<f64>,
 }
 
 fn one() -> u32 {
@@ -137,6 +165,7 @@ impl Default for Config {
             machine: MachineSettings::default(),
             stock: StockConfig::default(),
             render: RenderConfig::default(),
+            check: CheckConfig::default(),
         }
     }
 }
@@ -249,6 +278,27 @@ impl Config {
         if self.render.scale.is_some_and(|s| !(s > 0.0 && s.is_finite())) {
             return Err(Diagnostic::error(at_key("scale"), "[render] scale must be above zero (cells per unit)"));
         }
+        let machine = &self.machine;
+        if machine.travel.is_some_and(|travel| !positive(&travel)) {
+            return Err(Diagnostic::error(at_key("travel"), "[machine] travel must be three lengths above zero"));
+        }
+        if machine.home.is_some() && machine.travel.is_none() {
+            return Err(Diagnostic::error(at_key("home"), "[machine] home needs a travel"));
+        }
+        if let (Some(home), Some(travel)) = (machine.home, machine.travel) {
+            if (0..3).any(|i| !(home[i] >= 0.0 && home[i] <= travel[i])) {
+                return Err(Diagnostic::error(at_key("home"), "[machine] home must lie within the travel"));
+            }
+        }
+        if machine.rapid_rate.is_some_and(|r| !(r > 0.0 && r.is_finite())) {
+            return Err(Diagnostic::error(at_key("rapid_rate"), "[machine] rapid_rate must be above zero"));
+        }
+        if self.check.min_arc_radius.is_some_and(|r| !(r >= 0.0 && r.is_finite())) {
+            return Err(Diagnostic::error(at_key("min_arc_radius"), "[check] min_arc_radius must be zero or more"));
+        }
+        if self.check.plunge_fraction.is_some_and(|f| !(f > 0.0 && f.is_finite())) {
+            return Err(Diagnostic::error(at_key("plunge_fraction"), "[check] plunge_fraction must be above zero"));
+        }
         if self.render.memory_limit_mb == Some(0) {
             return Err(Diagnostic::error(at_key("memory_limit_mb"), "[render] memory_limit_mb must be above zero"));
         }
@@ -261,6 +311,29 @@ impl Config {
             Units::Inch => 0.1,
             Units::Mm => 2.5,
         })
+    }
+
+    /// The box the machine's axes can reach, in machine coordinates, if `[machine] travel` says.
+    pub fn travel_box(&self) -> Option<([f64; 3], [f64; 3])> {
+        let travel = self.machine.travel?;
+        let home = self.machine.home.unwrap_or([0.0, 0.0, travel[2]]);
+        Some((std::array::from_fn(|i| -home[i]), std::array::from_fn(|i| travel[i] - home[i])))
+    }
+
+    /// G00's speed in machine units per minute.
+    pub fn rapid_rate(&self) -> f64 {
+        self.machine.rapid_rate.unwrap_or(match self.units {
+            Units::Inch => 200.0,
+            Units::Mm => 5000.0,
+        })
+    }
+
+    pub fn min_arc_radius(&self) -> f64 {
+        self.check.min_arc_radius.unwrap_or(2.0 * self.units.arc_tolerance())
+    }
+
+    pub fn plunge_fraction(&self) -> f64 {
+        self.check.plunge_fraction.unwrap_or(0.5)
     }
 
     pub fn tool(&self, number: u32) -> Option<&Tool> {

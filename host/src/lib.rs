@@ -4,6 +4,7 @@
 //! [`lex`] -> [`parse`] -> [`passes`] 00..05 -> [`emit`], with [`cli`] the only
 //! module that touches argv, files or terminals.
 
+pub mod check;
 pub mod cli;
 pub mod config;
 pub mod diag;

@@ -131,6 +131,7 @@ impl CutBounds {
 pub struct Tracker<'c> {
     walker: Walker,
     tools: &'c [Tool],
+    tool: Option<&'c Tool>,
     cutter: Option<Cutter>,
     /// Reported that no tool is loaded.
     complained: bool,
@@ -139,8 +140,13 @@ pub struct Tracker<'c> {
 impl<'c> Tracker<'c> {
     /// With no M06, tool 1 is loaded.
     pub fn new(tools: &'c [Tool]) -> Tracker<'c> {
-        let cutter = tools.iter().find(|t| t.number == 1).map(Cutter::new);
-        Tracker { walker: Walker::new(), tools, cutter, complained: false }
+        let tool = tools.iter().find(|t| t.number == 1);
+        Tracker { walker: Walker::new(), tools, tool, cutter: tool.map(Cutter::new), complained: false }
+    }
+
+    /// The tool loaded now, as the table describes it.
+    pub fn tool(&self) -> Option<&'c Tool> {
+        self.tool
     }
 
     /// The tool loaded now (`None` if its number is not in the table).
@@ -162,7 +168,8 @@ impl<'c> Tracker<'c> {
                 Ok(Some(m))
             }
             Some(Step::Tool { number, span }) => {
-                self.cutter = self.tools.iter().find(|t| t.number == number).map(Cutter::new);
+                self.tool = self.tools.iter().find(|t| t.number == number);
+                self.cutter = self.tool.map(Cutter::new);
                 self.complained = true;
                 if self.cutter.is_none() {
                     let known: Vec<String> = self.tools.iter().map(|t| format!("T{}", t.number)).collect();
@@ -188,6 +195,23 @@ pub struct Simulation {
     /// How finely arcs that are not cut exactly are split into lines.
     tolerance: f64,
     moves: u64,
+    /// When inspecting (for the verifier): the tag of the move each cut of the batch belongs to.
+    tags: Option<Vec<u32>>,
+    /// What the cuts flushed so far touched, not yet taken by the caller.
+    contacts: Vec<Contact>,
+    /// The tag of the last cut flushed: a move may have more cuts to come, the moves before it do not.
+    settled_below: u32,
+}
+
+/// What one move did to the stock, as an inspecting simulation reports it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// The tag the move was cut with.
+    pub tag: u32,
+    /// The most material the move removed over one cell: how deep the tool was engaged.
+    pub depth: f32,
+    /// How far under the stock's bottom the tool went, over the stock (0 if it did not).
+    pub below: f32,
 }
 
 /// What a tile needs to know of the field.
@@ -199,7 +223,11 @@ struct Frame {
     cy: f64,
     nx: usize,
     ny: usize,
+    /// The stock's bottom.
     floor: f32,
+    /// Where cutting stops: the floor for pictures, nowhere when inspecting,
+    /// so that a fixture once cut into is not reported again.
+    clamp: f32,
 }
 
 impl Simulation {
@@ -211,7 +239,26 @@ impl Simulation {
         }
         let field = HeightField::new(stock, cell);
         let bins = vec![Vec::new(); field.tiles_x * field.tiles_y];
-        Ok(Simulation { tolerance: field.cell / 20.0, field, batch: Vec::with_capacity(BATCH), bins, moves: 0 })
+        Ok(Simulation {
+            tolerance: field.cell / 20.0,
+            field,
+            batch: Vec::with_capacity(BATCH),
+            bins,
+            moves: 0,
+            tags: None,
+            contacts: Vec::new(),
+            settled_below: 0,
+        })
+    }
+
+    /// Reports, for every move cut with [`Simulation::cut_tagged`], how deep it
+    /// engaged the material it met and whether it went under the stock. Cuts
+    /// are still batched and cut in parallel: a cell is only ever touched by
+    /// its own tile, in program order, so what a move meets is exactly what
+    /// the moves before it left.
+    pub fn inspecting(mut self) -> Simulation {
+        self.tags = Some(Vec::with_capacity(BATCH));
+        self
     }
 
     pub fn field(&self) -> &HeightField {
@@ -225,6 +272,18 @@ impl Simulation {
 
     /// Removes what `cutter` cuts moving along `segment`.
     pub fn cut(&mut self, segment: &Segment, cutter: &Cutter) {
+        self.cut_tagged(segment, cutter, 0);
+    }
+
+    /// Every move tagged below this has reported all it touched.
+    pub fn settled_below(&self) -> u32 {
+        self.settled_below
+    }
+
+    /// [`Simulation::cut`], and when inspecting, reports what the move
+    /// touched under `tag` (tags must not decrease), once its batch is cut.
+    /// False when the move is nowhere near the stock (it will report nothing).
+    pub fn cut_tagged(&mut self, segment: &Segment, cutter: &Cutter, tag: u32) -> bool {
         self.moves += 1;
         let (lo, hi) = segment.bounds();
         let stock = &self.field.stock;
@@ -236,14 +295,14 @@ impl Simulation {
             || lo[1] - r > stock.max[1]
             || hi[1] + r < stock.min[1]
         {
-            return;
+            return false;
         }
         match *segment {
-            Segment::Line { from, to } => self.push(Cut::line(from, to, *cutter)),
+            Segment::Line { from, to } => self.push(Cut::line(from, to, *cutter), tag),
             Segment::Arc { from, to, centre, plane: Plane::XY, radius, start, sweep }
                 if from[2] == to[2] || cutter.shape == Shape::Flat =>
             {
-                self.push(Cut {
+                let cut = Cut {
                     geometry: Geometry::Arc {
                         c: [centre[0], centre[1]],
                         r: radius,
@@ -255,7 +314,8 @@ impl Simulation {
                     cutter: *cutter,
                     lo: [lo[0] - r, lo[1] - r],
                     hi: [hi[0] + r, hi[1] + r],
-                });
+                };
+                self.push(cut, tag);
             }
             // Helices cut by ball and cone tools, and arcs in XZ and YZ: short lines
             // within a twentieth of a cell of the arc, each cut exactly.
@@ -264,15 +324,19 @@ impl Simulation {
                 let mut a = segment.from();
                 for k in 1..=n {
                     let b = if k == n { segment.to() } else { segment.at(k as f64 / n as f64) };
-                    self.push(Cut::line(a, b, *cutter));
+                    self.push(Cut::line(a, b, *cutter), tag);
                     a = b;
                 }
             }
         }
+        true
     }
 
-    fn push(&mut self, cut: Cut) {
+    fn push(&mut self, cut: Cut, tag: u32) {
         self.batch.push(cut);
+        if let Some(tags) = &mut self.tags {
+            tags.push(tag);
+        }
         if self.batch.len() == BATCH {
             self.flush();
         }
@@ -288,6 +352,7 @@ impl Simulation {
             nx: f.nx,
             ny: f.ny,
             floor: f.stock.min[2] as f32,
+            clamp: if self.tags.is_some() { f32::NEG_INFINITY } else { f.stock.min[2] as f32 },
         }
     }
 
@@ -320,21 +385,83 @@ impl Simulation {
             }
         }
         let batch = &self.batch;
-        self.field.data.par_chunks_mut(TILE * TILE).zip(self.bins.par_iter()).enumerate().for_each(
-            |(t, (tile, bin))| {
+        let tiles = self.field.data.par_chunks_mut(TILE * TILE).zip(self.bins.par_iter()).enumerate();
+        match &mut self.tags {
+            None => tiles.for_each(|(t, (tile, bin))| {
                 let (tx, ty) = (t % tiles_x, t / tiles_x);
                 for &k in bin {
                     cut_tile(&batch[k as usize], tile, tx * TILE, ty * TILE, &frame, &span);
                 }
-            },
-        );
+            }),
+            Some(tags) => {
+                // Each tile lists what each of its cuts touched; a cut's contact is the worst over its tiles.
+                let touched: Vec<Vec<(u32, Touch)>> = tiles
+                    .map(|(t, (tile, bin))| {
+                        let (tx, ty) = (t % tiles_x, t / tiles_x);
+                        let mut touched = Vec::new();
+                        for &k in bin {
+                            let touch = cut_tile(&batch[k as usize], tile, tx * TILE, ty * TILE, &frame, &span);
+                            if touch.depth > 0.0 || touch.below > 0.0 {
+                                touched.push((k, touch));
+                            }
+                        }
+                        touched
+                    })
+                    .collect();
+                let mut per_cut = vec![Touch::default(); batch.len()];
+                for (k, touch) in touched.into_iter().flatten() {
+                    per_cut[k as usize].merge(touch);
+                }
+                for (touch, &tag) in per_cut.iter().zip(tags.iter()) {
+                    if touch.depth <= 0.0 && touch.below <= 0.0 {
+                        continue;
+                    }
+                    match self.contacts.last_mut() {
+                        Some(last) if last.tag == tag => {
+                            last.depth = last.depth.max(touch.depth);
+                            last.below = last.below.max(touch.below);
+                        }
+                        _ => self.contacts.push(Contact { tag, depth: touch.depth, below: touch.below }),
+                    }
+                }
+                self.settled_below = tags.last().copied().unwrap_or(self.settled_below);
+                tags.clear();
+            }
+        }
         self.batch.clear();
+    }
+
+    /// Cuts the batch now, so that every move cut so far has reported its contact.
+    pub fn settle(&mut self) {
+        self.flush();
+    }
+
+    /// The contacts reported since the last call, in the order of their tags.
+    /// A move whose cuts straddle two batches may report twice.
+    pub fn take_contacts(&mut self) -> Vec<Contact> {
+        std::mem::take(&mut self.contacts)
     }
 
     /// Cuts what is left and hands over the height field.
     pub fn finish(mut self) -> HeightField {
         self.flush();
         self.field
+    }
+}
+
+/// What a cut did to the cells of one tile.
+#[derive(Clone, Copy, Debug, Default)]
+struct Touch {
+    /// The most material removed over one cell.
+    depth: f32,
+    /// How far under the stock's bottom the tool reached.
+    below: f32,
+}
+
+impl Touch {
+    fn merge(&mut self, other: Touch) {
+        self.depth = self.depth.max(other.depth);
+        self.below = self.below.max(other.below);
     }
 }
 
@@ -345,10 +472,11 @@ fn cut_tile(
     j_base: usize,
     frame: &Frame,
     span: &impl Fn(f64, f64, f64, f64, usize) -> Option<(usize, usize)>,
-) {
+) -> Touch {
+    let mut touch = Touch::default();
     let j_end = (j_base + TILE).min(frame.ny);
     let i_end = (i_base + TILE).min(frame.nx);
-    let Some((j0, j1)) = span(cut.lo[1], cut.hi[1], frame.y0, frame.cy, frame.ny) else { return };
+    let Some((j0, j1)) = span(cut.lo[1], cut.hi[1], frame.y0, frame.cy, frame.ny) else { return touch };
     for j in j0.max(j_base)..=j1.min(j_end - 1) {
         let y = frame.y0 + (j as f64 + 0.5) * frame.cy;
         let Some((xlo, xhi)) = cut.row(y) else { continue };
@@ -359,10 +487,14 @@ fn cut_tile(
             let z = cut.low(x, y) as f32;
             let cell = &mut row[i - i_base];
             if z < *cell {
-                *cell = z.max(frame.floor);
+                let old = *cell;
+                touch.depth = touch.depth.max(old - z.max(frame.floor));
+                touch.below = touch.below.max(old.min(frame.floor) - z);
+                *cell = z.max(frame.clamp);
             }
         }
     }
+    touch
 }
 
 #[cfg(test)]
