@@ -1,6 +1,7 @@
 //! The command line. The only module that knows about argv, files, standard
 //! streams and terminals; everything else takes readers and returns values.
 
+mod check;
 mod render;
 mod report;
 mod wizard;
@@ -32,8 +33,9 @@ enum Command {
     /// Translate a program to simple G-code (absolute G00-G03 in one unit).
     #[command(visible_alias = "translate")]
     Run(RunArgs),
-    /// Report the program's diagnostics only.
-    Check(CommonArgs),
+    /// Verify the program: translation, then what would break a part or a
+    /// machine (rapids into stock, spindle off, deep cuts, travel...), and a summary.
+    Check(Box<check::CheckArgs>),
     /// Show the lexer's view: one token a line.
     Tokens(InputArg),
     /// Show the parser's view: one statement a line, before any pass.
@@ -146,7 +148,7 @@ pub fn main() -> i32 {
     };
     let result = match cli.command {
         Command::Run(args) => run(&args),
-        Command::Check(args) => check(&args),
+        Command::Check(args) => check::check(&args),
         Command::Tokens(args) => tokens(&args.file),
         Command::Parse(args) => parse_only(&args.file),
         Command::Render(args) => render::render(&args),
@@ -359,19 +361,6 @@ fn ignore_broken_pipe(err: io::Error) -> io::Result<()> {
     } else {
         Err(err)
     }
-}
-
-fn check(args: &CommonArgs) -> Result<i32, String> {
-    let input = Input::new(&args.file)?;
-    let config = load_config(args, &input)?;
-    let mut wizards = args.wizards.runtime(&config);
-    let report = translate_into(&input, &config, LAST_STAGE, false, &mut wizards, |_| Ok(()))
-        .map_err(|err| plain_error(&err.to_string(), None))?;
-    show(&report, &input);
-    if report.errors() + report.warnings() == 0 {
-        println!("{}: no problems found", input.name());
-    }
-    Ok(i32::from(report.errors() > 0))
 }
 
 fn tokens(path: &Path) -> Result<i32, String> {

@@ -155,7 +155,7 @@ impl<R: BufRead> BufRead for Counting<R> {
 
 /// A progress bar on stderr that shows itself once a pass has run a second,
 /// unless quiet or stderr is not a terminal.
-struct Progress {
+pub(super) struct Progress {
     bar: ProgressBar,
     started: Instant,
     shown: bool,
@@ -163,7 +163,7 @@ struct Progress {
 }
 
 impl Progress {
-    fn new(total: u64, message: &'static str, quiet: bool) -> Progress {
+    pub(super) fn new(total: u64, message: &'static str, quiet: bool) -> Progress {
         let bar = ProgressBar::with_draw_target(Some(total.max(1)), ProgressDrawTarget::hidden());
         bar.set_style(
             ProgressStyle::with_template("{msg:>9} [{bar:40}] {percent:>3}% {elapsed} (eta {eta})")
@@ -182,34 +182,48 @@ impl Progress {
         self.bar.set_position(done);
     }
 
-    fn finish(self) {
+    pub(super) fn finish(self) {
         self.bar.finish_and_clear();
     }
 }
 
 /// Translates `input` and hands every output statement to `each` (which
 /// returns false to stop); collects the diagnostics.
-fn walk(
+pub(super) fn walk(
     input: &Input,
     config: &Config,
     wizards: &mut dyn Wizards,
     progress: Option<&mut Progress>,
     mut each: impl FnMut(&Statement, &mut Report) -> bool,
 ) -> Report {
+    let mut report = Report::default();
+    walk_events(input, config, wizards, progress, |event| match event {
+        Event::Statement(statement) => each(&statement, &mut report),
+        Event::Diagnostic(diagnostic) => {
+            report.add(diagnostic);
+            true
+        }
+    });
+    report
+}
+
+/// Translates `input` and hands every event, statement or diagnostic, to
+/// `each` in the order they come (which returns false to stop).
+pub(super) fn walk_events(
+    input: &Input,
+    config: &Config,
+    wizards: &mut dyn Wizards,
+    progress: Option<&mut Progress>,
+    mut each: impl FnMut(Event) -> bool,
+) {
     let library = library(input, config.dialect);
     let options = Options { config, stage: LAST_STAGE, wizards };
     let count = Arc::new(AtomicU64::new(0));
     let reader = Counting { inner: input.open(), count: count.clone() };
-    let mut report = Report::default();
     let mut progress = progress;
     for (n, event) in translate(reader, library, options).enumerate() {
-        match event {
-            Event::Statement(statement) => {
-                if !each(&statement, &mut report) {
-                    break;
-                }
-            }
-            Event::Diagnostic(diagnostic) => report.add(diagnostic),
+        if !each(event) {
+            break;
         }
         if n % 4096 == 0 {
             if let Some(p) = progress.as_deref_mut() {
@@ -217,10 +231,65 @@ fn walk(
             }
         }
     }
-    report
 }
 
-fn input_size(input: &Input) -> u64 {
+/// Where the program cuts, and the box of its path (pass 1, when the stock has no size).
+pub(super) fn bounds(
+    input: &Input,
+    config: &Config,
+    wizards: &mut dyn Wizards,
+    quiet: bool,
+) -> (Report, CutBounds, Option<(Point, Point)>) {
+    let mut bounds = CutBounds::default();
+    let mut path_box: Option<(Point, Point)> = None;
+    let mut progress = Progress::new(input_size(input), "bounds", quiet);
+    let mut tracker = Tracker::new(&config.tools);
+    let report = walk(input, config, wizards, Some(&mut progress), |statement, report| {
+        match tracker.step(statement) {
+            Ok(Some(m)) => {
+                bounds.add(&m.segment, tracker.cutter().as_ref());
+                let (lo, hi) = m.segment.bounds();
+                let (l, h) = path_box.get_or_insert((lo, hi));
+                for i in 0..3 {
+                    l[i] = l[i].min(lo[i]);
+                    h[i] = h[i].max(hi[i]);
+                }
+            }
+            Ok(None) => {}
+            Err(diagnostic) => report.add(diagnostic),
+        }
+        true
+    });
+    progress.finish();
+    (report, bounds, path_box)
+}
+
+/// The simulation at the resolution asked for (or the config's, or the
+/// default), unless it would not fit in memory: then the message says what would.
+pub(super) fn simulation(
+    stock: Stock,
+    resolution: Option<f64>,
+    memory_limit: Option<u64>,
+    config: &Config,
+) -> Result<Simulation, String> {
+    let cell = resolution.or(config.render.scale.map(|s| 1.0 / s)).unwrap_or(stock.default_cell());
+    let limit = memory_limit.or(config.render.memory_limit_mb).unwrap_or(2048) << 20;
+    Simulation::new(stock, cell, limit).map_err(|too_big| {
+        let unit = config.units.abbreviation();
+        format!(
+            "a resolution of {} {unit} needs {} MiB for the {} x {} {unit} stock, over the limit of {} MiB; \
+             the finest that fits is --resolution {} (or raise --memory-limit)",
+            crate::render::label(cell),
+            too_big.needed >> 20,
+            crate::render::label(stock.size()[0]),
+            crate::render::label(stock.size()[1]),
+            too_big.limit >> 20,
+            round_up(too_big.finest),
+        )
+    })
+}
+
+pub(super) fn input_size(input: &Input) -> u64 {
     match input {
         Input::File(path) => std::fs::metadata(path).map_or(0, |m| m.len()),
         Input::Stdin(buffer) => buffer.len() as u64,
@@ -247,7 +316,7 @@ fn write_atomically(path: &PathBuf, out: impl FnOnce(&mut dyn Write) -> io::Resu
     Ok(())
 }
 
-fn usage_error(message: &str) -> Result<i32, String> {
+pub(super) fn usage_error(message: &str) -> Result<i32, String> {
     eprintln!("error: {message}");
     Ok(2)
 }
@@ -285,28 +354,10 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
 
     // Pass 1 (unless the stock has a size): where the program cuts, and the path's box.
     let mut bounds = CutBounds::default();
-    let mut path_box: Option<(Point, Point)> = None;
     let stock = Stock::from_config(&config);
     if stock.is_none() || args.toolpath {
-        let mut progress = Progress::new(total, "bounds", args.quiet);
-        let mut tracker = Tracker::new(&config.tools);
-        let report = walk(&input, &config, &mut wizards, Some(&mut progress), |statement, report| {
-            match tracker.step(statement) {
-                Ok(Some(m)) => {
-                    bounds.add(&m.segment, tracker.cutter().as_ref());
-                    let (lo, hi) = m.segment.bounds();
-                    let (l, h) = path_box.get_or_insert((lo, hi));
-                    for i in 0..3 {
-                        l[i] = l[i].min(lo[i]);
-                        h[i] = h[i].max(hi[i]);
-                    }
-                }
-                Ok(None) => {}
-                Err(diagnostic) => report.add(diagnostic),
-            }
-            true
-        });
-        progress.finish();
+        let (report, cut, path_box) = self::bounds(&input, &config, &mut wizards, args.quiet);
+        bounds = cut;
         if report.errors() > 0 {
             return failed(&report);
         }
@@ -329,23 +380,9 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
     let stock = stock.unwrap_or_else(|| bounds.stock(config.stock_margin()));
 
     // The simulation.
-    let cell = args.resolution.or(config.render.scale.map(|s| 1.0 / s)).unwrap_or(stock.default_cell());
-    let limit = args.memory_limit.or(config.render.memory_limit_mb).unwrap_or(2048) << 20;
-    let mut sim = match Simulation::new(stock, cell, limit) {
+    let mut sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
         Ok(sim) => sim,
-        Err(too_big) => {
-            let unit = config.units.abbreviation();
-            return usage_error(&format!(
-                "a resolution of {} {unit} needs {} MiB for the {} x {} {unit} stock, over the limit of {} MiB; \
-                 the finest that fits is --resolution {} (or raise --memory-limit)",
-                crate::render::label(cell),
-                too_big.needed >> 20,
-                crate::render::label(stock.size()[0]),
-                crate::render::label(stock.size()[1]),
-                too_big.limit >> 20,
-                round_up(too_big.finest),
-            ));
-        }
+        Err(message) => return usage_error(&message),
     };
     let mut progress = Progress::new(total, "cutting", args.quiet);
     let mut tracker = Tracker::new(&config.tools);

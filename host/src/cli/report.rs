@@ -22,9 +22,17 @@ pub struct Report {
     shown: Vec<Diagnostic>,
     errors: usize,
     warnings: usize,
+    /// What failed, for the closing line (default: the translation).
+    failure: Option<&'static str>,
 }
 
 impl Report {
+    /// Closes with "error: `failure`: N errors" rather than "could not translate the program".
+    pub fn failing_as(mut self, failure: &'static str) -> Report {
+        self.failure = Some(failure);
+        self
+    }
+
     pub fn add(&mut self, diagnostic: Diagnostic) {
         match diagnostic.severity {
             Severity::Error => self.errors += 1,
@@ -67,15 +75,12 @@ impl Report {
 
     fn summary(&self) -> Option<String> {
         let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+        let failure = self.failure.unwrap_or("could not translate the program");
         match (self.errors, self.warnings) {
             (0, 0) => None,
             (0, w) => Some(format!("warning: {} emitted", plural(w, "warning"))),
-            (e, 0) => Some(format!("error: could not translate the program: {}", plural(e, "error"))),
-            (e, w) => Some(format!(
-                "error: could not translate the program: {}, {}",
-                plural(e, "error"),
-                plural(w, "warning")
-            )),
+            (e, 0) => Some(format!("error: {failure}: {}", plural(e, "error"))),
+            (e, w) => Some(format!("error: {failure}: {}, {}", plural(e, "error"), plural(w, "warning"))),
         }
     }
 }

@@ -1,0 +1,274 @@
+//! `ger check`: the translation's diagnostics and the verifier's, then a
+//! summary of what the program will do; as text for people or JSON for
+//! editors and CI scripts (the shape is `docs/check.schema.json`).
+
+use std::fmt::Write as _;
+
+use clap::{Args, ValueEnum};
+use serde::Serialize;
+
+use super::render::{bounds, input_size, simulation, usage_error, walk_events, Progress};
+use super::report::{plain_error, Report};
+use super::{load_config, styled, CommonArgs, Input};
+use crate::check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
+use crate::config::Config;
+use crate::diag::{Diagnostic, Severity};
+use crate::passes::Event;
+use crate::sim::Stock;
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Output {
+    /// Diagnostics as rustc shows them, on stderr; the summary on stdout.
+    Text,
+    /// One JSON document on stdout (see docs/check.schema.json).
+    Json,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Deny {
+    /// Warnings fail the check, as errors.
+    Warnings,
+}
+
+#[derive(Args)]
+pub(crate) struct CheckArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// How to report.
+    #[arg(long, value_enum, default_value = "text")]
+    format: Output,
+    /// `--deny warnings` turns warnings into errors (exit status 1).
+    #[arg(long, value_enum, value_name = "WHAT")]
+    deny: Option<Deny>,
+    /// Do not make this check (repeatable): rapid-into-stock, spindle-off,
+    /// flute-length, plunge, below-stock, travel, arc-radius.
+    #[arg(long, value_name = "CHECK", value_parser = rule)]
+    allow: Vec<Rule>,
+    /// The side of a simulation cell, in machine units [default: the
+    /// config's scale, or 1/1000 of the stock's longer side].
+    #[arg(long, value_name = "LENGTH", value_parser = positive)]
+    resolution: Option<f64>,
+    /// MiB the simulation's height field may take [default: the config's, or 2048].
+    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..))]
+    memory_limit: Option<u64>,
+    /// No progress bar.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+fn rule(text: &str) -> Result<Rule, String> {
+    Rule::from_name(text).ok_or_else(|| {
+        let names: Vec<&str> = Rule::ALL.iter().map(|r| r.name()).collect();
+        format!("not a check; the checks are {}", names.join(", "))
+    })
+}
+
+fn positive(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+        _ => Err("expected a length above zero".to_string()),
+    }
+}
+
+pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
+    let input = Input::new(&args.common.file)?;
+    let config = load_config(&args.common, &input)?;
+    let mut wizards = args.common.wizards.runtime(&config);
+    let quiet = args.quiet || args.format == Output::Json;
+
+    // Without a size, the stock is where the program cuts: one pass to find it.
+    let stock = match Stock::from_config(&config) {
+        Some(stock) => stock,
+        None => bounds(&input, &config, &mut wizards, quiet).1.stock(config.stock_margin()),
+    };
+    let sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
+        Ok(sim) => sim,
+        Err(message) => return usage_error(&message),
+    };
+    let mut checker = Checker::new(&config, sim, &args.allow);
+    let mut progress = Progress::new(input_size(&input), "checking", quiet);
+    walk_events(&input, &config, &mut wizards, Some(&mut progress), |event| {
+        match event {
+            Event::Statement(statement) => checker.statement(&statement),
+            Event::Diagnostic(diagnostic) => checker.translator(diagnostic),
+        }
+        true
+    });
+    progress.finish();
+    let mut verdict = checker.finish();
+    if args.deny == Some(Deny::Warnings) {
+        for finding in &mut verdict.findings {
+            finding.diagnostic.severity = Severity::Error;
+        }
+    }
+    let errors = verdict.findings.iter().filter(|f| f.diagnostic.is_error()).count();
+    match args.format {
+        Output::Text => {
+            let mut report = Report::default().failing_as("the check failed");
+            for finding in &verdict.findings {
+                report.add(finding.diagnostic.clone());
+            }
+            if !verdict.findings.is_empty() {
+                eprint!("{}", report.render(&input.name(), input.open(), styled()));
+            }
+            print!("{}", summary_text(&input.name(), &verdict, &config));
+        }
+        Output::Json => {
+            let json = serde_json::to_string_pretty(&JsonReport::new(&input.name(), &verdict))
+                .map_err(|err| plain_error(&format!("cannot write the report: {err}"), None))?;
+            println!("{json}");
+        }
+    }
+    Ok(i32::from(errors > 0))
+}
+
+/// The summary for people: a heading line, then one line a fact.
+fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
+    let s = &verdict.summary;
+    let decimals = config.units.decimals();
+    let unit = s.units;
+    let (errors, warnings) = verdict.findings.iter().fold((0, 0), |(e, w), f| match f.diagnostic.severity {
+        Severity::Error => (e + 1, w),
+        Severity::Warning => (e, w + 1),
+    });
+    let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    let mut out = match (errors, warnings) {
+        (0, 0) => format!("{name}: no problems found\n"),
+        (e, 0) => format!("{name}: {}\n", plural(e, "error")),
+        (0, w) => format!("{name}: {}\n", plural(w, "warning")),
+        (e, w) => format!("{name}: {}, {}\n", plural(e, "error"), plural(w, "warning")),
+    };
+    let boxed = |b: &Option<Bounds>| match b {
+        None => "none".to_string(),
+        Some(b) => format!(
+            "X {:.d$} to {:.d$}, Y {:.d$} to {:.d$}, Z {:.d$} to {:.d$} {unit}",
+            b.min[0],
+            b.max[0],
+            b.min[1],
+            b.max[1],
+            b.min[2],
+            b.max[2],
+            d = decimals
+        ),
+    };
+    let _ = writeln!(out, "  cut       {}", boxed(&s.cut_box));
+    let _ = writeln!(out, "  path      {}", boxed(&s.path_box));
+    let _ = writeln!(
+        out,
+        "  distance  {:.d$} {unit} cutting, {:.d$} {unit} rapid",
+        s.cutting_distance,
+        s.rapid_distance,
+        d = decimals
+    );
+    let _ = writeln!(
+        out,
+        "  run time  {} (feeds as programmed, rapids at {} {unit}/min)",
+        duration(s.run_time_seconds),
+        s.rapid_rate
+    );
+    let tools: Vec<String> = s
+        .tools
+        .iter()
+        .map(|t| {
+            format!(
+                "T{} {:.d$} {unit} over {}",
+                t.number,
+                t.cutting_distance,
+                plural(t.moves as usize, "move"),
+                d = decimals
+            )
+        })
+        .collect();
+    let _ = writeln!(out, "  tools     {}", if tools.is_empty() { "none".to_string() } else { tools.join(", ") });
+    let codes: Vec<String> = s.codes.iter().map(|(code, n)| format!("{code} {n}")).collect();
+    let _ = writeln!(out, "  codes     {}", codes.join(", "));
+    if !s.problems.is_empty() {
+        let problems: Vec<String> = s.problems.iter().map(|(rule, n)| format!("{rule} {n}")).collect();
+        let _ = writeln!(out, "  problems  {}", problems.join(", "));
+    }
+    out
+}
+
+/// "1 h 02 min", "3 min 05 s", "12.5 s".
+fn duration(seconds: f64) -> String {
+    let whole = seconds.round() as u64;
+    if whole >= 3600 {
+        format!("{} h {:02} min", whole / 3600, (whole % 3600 + 30) / 60)
+    } else if whole >= 60 {
+        format!("{} min {:02} s", whole / 60, whole % 60)
+    } else {
+        format!("{seconds:.1} s")
+    }
+}
+
+/// `ger check --format json`: field names are part of ger's interface.
+#[derive(Serialize)]
+struct JsonReport<'a> {
+    /// Of this shape: bumped when a field changes meaning or goes away.
+    version: u32,
+    file: String,
+    errors: usize,
+    warnings: usize,
+    diagnostics: Vec<JsonDiagnostic>,
+    summary: &'a Summary,
+}
+
+#[derive(Serialize)]
+struct JsonDiagnostic {
+    severity: &'static str,
+    /// The check's name; null for a problem the translation found.
+    rule: Option<&'static str>,
+    message: String,
+    help: Option<String>,
+    line: u32,
+    column: u32,
+    /// Bytes of the line the problem covers (at least 1 in editors).
+    length: u32,
+    /// The subprogram and wizard calls the problem happened in, innermost first.
+    calls: Vec<JsonCall>,
+}
+
+#[derive(Serialize)]
+struct JsonCall {
+    /// `O100`, or the wizard's name.
+    name: String,
+    line: u32,
+    column: u32,
+}
+
+impl<'a> JsonReport<'a> {
+    fn new(file: &str, verdict: &'a Verdict) -> JsonReport<'a> {
+        let diagnostics: Vec<JsonDiagnostic> = verdict.findings.iter().map(JsonDiagnostic::new).collect();
+        let errors = diagnostics.iter().filter(|d| d.severity == "error").count();
+        JsonReport {
+            version: 1,
+            file: file.to_string(),
+            errors,
+            warnings: diagnostics.len() - errors,
+            diagnostics,
+            summary: &verdict.summary,
+        }
+    }
+}
+
+impl JsonDiagnostic {
+    fn new(finding: &Finding) -> JsonDiagnostic {
+        let d: &Diagnostic = &finding.diagnostic;
+        let mut calls = Vec::new();
+        let mut next = d.origin.as_deref();
+        while let Some(origin) = next {
+            calls.push(JsonCall { name: origin.what.clone(), line: origin.call.line, column: origin.call.col });
+            next = origin.parent.as_deref();
+        }
+        JsonDiagnostic {
+            severity: if d.is_error() { "error" } else { "warning" },
+            rule: finding.rule.map(Rule::name),
+            message: d.message.clone(),
+            help: d.help.clone(),
+            line: d.span.line,
+            column: d.span.col,
+            length: d.span.len,
+            calls,
+        }
+    }
+}
