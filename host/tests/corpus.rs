@@ -1,6 +1,6 @@
 //! The real-world corpus (`../shared/corpus` beside the repository, described
 //! by its `INDEX.tsv`): every G-code file of a 3-axis mill is run through
-//! `ger check --lenient`, and must either translate or be refused with
+//! `ger run --lenient`, and must either translate or be refused with
 //! diagnostics, never panic and never take more than 10 s. The results, by
 //! file and by source, are kept in `tests/corpus/RESULTS.md`; this test fails
 //! when they change (`UPDATE_EXPECT=1 cargo test --test corpus` rewrites the
@@ -74,10 +74,10 @@ enum Verdict {
     Broken(String),
 }
 
-/// Runs `ger check --lenient` on one file, in the file's own units.
-fn check(file: &Path, units: &str, config: &Path) -> Verdict {
+/// Runs `ger run --lenient` on one file, in the file's own units.
+fn translate(file: &Path, units: &str, config: &Path) -> Verdict {
     let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
-        .args(["check", "--lenient", "--units", units, "--config"])
+        .args(["run", "--lenient", "--units", units, "--config"])
         .arg(config)
         .arg(file)
         .env("NO_COLOR", "1")
@@ -147,7 +147,7 @@ fn the_corpus_translates_or_is_refused_cleanly() {
             Class::Other(why) => ("skipped".to_string(), format!("not a 3-axis mill program: {why}")),
             _ => {
                 let units = if entry.units == "G21" { "mm" } else { "in" };
-                match check(&file, units, &config) {
+                match translate(&file, units, &config) {
                     Verdict::Translated => ("translated".to_string(), String::new()),
                     Verdict::Refused(why) => ("refused".to_string(), why),
                     Verdict::Broken(why) => {
@@ -180,7 +180,7 @@ fn the_corpus_translates_or_is_refused_cleanly() {
     let _ = writeln!(
         table,
         "Written by `host/tests/corpus.rs` (`UPDATE_EXPECT=1 cargo test --test corpus`): every G-code file of \
-         `../shared/corpus/INDEX.tsv`, run through `ger check --lenient` in its own units, with a tool table of \
+         `../shared/corpus/INDEX.tsv`, run through `ger run --lenient` in its own units, with a tool table of \
          20 tools.\n"
     );
     let _ = writeln!(
