@@ -30,7 +30,7 @@ measure() { # NAME COMMAND... : the best of 3 runs: wall and CPU seconds, lines/
 }
 echo "$lines-line surfacing program ($(du -h "$program" | cut -f1)) on $(nproc) cores"
 measure "ger run" "$ger" run "$program" -o "$out/surface.out.ngc"
-measure "ger check" "$ger" check "$program"
+
 if command -v rs274 >/dev/null; then
   measure "rs274 -g" rs274 -g "$program"
 else
