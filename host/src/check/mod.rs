@@ -17,7 +17,7 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::config::{Config, Tool, ToolKind};
+use crate::config::{Config, ToolKind};
 use crate::diag::{Diagnostic, Origin, Span};
 use crate::sim::{Contact, Point, Segment, Simulation, Tracker};
 use crate::statement::{Kind, Machine, Statement};
@@ -96,7 +96,8 @@ struct Pending {
     stops: u32,
     /// A flat endmill's feed straight down: its diameter.
     plunge: Option<f64>,
-    tool: Option<Tool>,
+    /// The tool's number and flute length, if the table gives it.
+    flutes: Option<(u32, f64)>,
     /// The rules this move has already been reported for (a move may report twice).
     reported: u8,
 }
@@ -228,7 +229,7 @@ impl<'c> Checker<'c> {
             spindle: self.spindle,
             stops: self.stops,
             plunge: (straight_down && !m.rapid && tool.kind == ToolKind::Endmill).then_some(tool.diameter),
-            tool: Some(tool.clone()),
+            flutes: tool.flute_length.map(|length| (tool.number, length)),
             reported: 0,
         });
         self.collect();
@@ -298,8 +299,7 @@ impl<'c> Checker<'c> {
                     Diagnostic::error(p.span, "cuts the stock while the spindle is not turning").with_help(help),
                 ));
             }
-            let tool = p.tool.as_ref();
-            if let Some((number, flutes)) = tool.and_then(|t| Some((t.number, t.flute_length?))) {
+            if let Some((number, flutes)) = p.flutes {
                 if !p.rapid && depth > flutes + self.tolerance {
                     found.push((
                         Rule::FluteLength,
