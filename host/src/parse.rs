@@ -302,7 +302,9 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 530) => Some("XYZF"),
         ('G', 640) => Some("PQ"),
         ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Some("XYZRQPLKF"),
-        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 190 | 310 | 330 | 470) => Some(""),
+        // M19's angle, timeout and direction go with it when it is dropped.
+        ('M', 190) => Some("RQP"),
+        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 310 | 330 | 470) => Some(""),
         _ => None,
     }
 }
@@ -513,6 +515,15 @@ fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
         860 => CycleCode::BoreSpindleStop,
         _ => CycleCode::BoreDwell,
     };
+    // Z, R, Q and P carry over from the cycle before, but a cycle code needs
+    // a position to drill at: as in LinuxCNC, none at all is an error, not a
+    // second hole where the tool is.
+    let target = words.axes("XYZ");
+    if target.is_empty() {
+        let name = code.code();
+        return Err(Diagnostic::error(span, format!("{name} with no X, Y or Z: it has no hole to drill"))
+            .with_help(format!("give the hole's position on the line, e.g. {name} X1 Y1 Z-0.5 R0.1")));
+    }
     let repeat = match (words.whole('L')?, words.whole('K')?) {
         (Some(_), Some(_)) => {
             return Err(Diagnostic::error(span, "a cycle takes L or K (repeats), not both"));
@@ -526,7 +537,7 @@ fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
     if let Some(f) = words.get('F').filter(|f| f.value <= 0.0) {
         return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
     }
-    Ok(Cycle { code, target: words.axes("XYZ"), r: words.get('R'), q, p: words.get('P'), repeat, feed: words.get('F') })
+    Ok(Cycle { code, target, r: words.get('R'), q, p: words.get('P'), repeat, feed: words.get('F') })
 }
 
 /// What the lenient dialect still refuses, with why.
@@ -776,6 +787,36 @@ mod tests {
         );
         assert_eq!(parsed("M98 L2"), ["1:1: error: M98 needs a P word: the number of the program to call"]);
         assert_eq!(parsed("M06 T1.5"), ["1:5: error: T must be a whole number, not 1.5"]);
+    }
+
+    fn parsed_lenient(text: &str) -> Vec<String> {
+        let lexer = crate::lex::Lexer::in_dialect(text.as_bytes(), Dialect::Lenient);
+        parse_in(lexer, Dialect::Lenient)
+            .map(|event| match event {
+                Event::Statement(s) => format!("{}:{} {:?}", s.span.line, s.span.col, s.kind),
+                Event::Diagnostic(d) => d.to_string(),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn lenient_m19_takes_its_orientation_words() {
+        // LinuxCNC's M19 R<angle> Q<timeout> P<direction>: they go with M19,
+        // not to a move of their own (which came out as `G00 R90`).
+        assert_eq!(
+            parsed_lenient("G64 M19 R90 Q2 P1 S0"),
+            ["1:1 NoEffect(\"G64\")", "1:5 NoEffect(\"M19\")", "1:19 SpindleSpeed(0.0)"]
+        );
+        // G64 takes P and Q but no R, so R on a G64 line with no M19 is a move's word.
+        assert!(parsed_lenient("G64 P0.01 R1")[1].starts_with("1:11 Motion(Motion { mode: None"));
+    }
+
+    #[test]
+    fn a_canned_cycle_needs_a_position() {
+        // As in LinuxCNC ("All axes missing with motion code"); before, ger
+        // drilled again where the tool was, with Z carried over.
+        assert_eq!(parsed_lenient("G81 R0.2 F10"), ["1:1: error: G81 with no X, Y or Z: it has no hole to drill"]);
+        assert!(parsed_lenient("G81 Z-1 R0.2 F10")[0].starts_with("1:1 Cycle"));
     }
 
     #[test]

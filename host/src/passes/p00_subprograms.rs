@@ -24,7 +24,7 @@ use crate::expand::{Call, Wizards};
 use crate::lex::Lexer;
 use crate::parse::{parse_in, Event};
 use crate::state::Probe;
-use crate::statement::{Cycle, CycleCode, Dialect, Kind, MotionMode, Statement};
+use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, Statement};
 
 /// How deep subprogram calls may nest before ger calls it runaway recursion.
 pub const MAX_CALL_DEPTH: usize = 32;
@@ -307,6 +307,9 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 }
             }
             Kind::Motion(motion) => {
+                if let Err(diagnostic) = self.check_bare_words(motion) {
+                    return Some(error(&statement, diagnostic));
+                }
                 match (motion.mode, self.cycle) {
                     (Some(mode), _) => {
                         self.motion = mode;
@@ -345,6 +348,54 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             Kind::NoEffect(_) => None,
             _ => Some(Event::Statement(statement)),
         }
+    }
+}
+
+impl<I> Subprograms<'_, I> {
+    /// A line with no G code moves in the mode in force, which may have no use
+    /// for some of its words: I, J, K and R belong to arcs, a canned cycle has
+    /// no centre, and it repeats only at a new position. Dropping such a word
+    /// would hide a mistake, and writing it out would put R on a G00, so it is
+    /// an error, as in LinuxCNC ("R word with no g code that uses it").
+    fn check_bare_words(&self, motion: &Motion) -> Result<(), Diagnostic> {
+        if motion.mode.is_some() {
+            return Ok(());
+        }
+        let centre = (0..3).find_map(|axis| motion.centre.get(axis).map(|v| (["I", "J", "K"][axis], v)));
+        let radius = motion.radius.map(|v| ("R", v));
+        match self.cycle {
+            Some(code) => {
+                let code = code.code();
+                if let Some((letter, v)) = centre {
+                    return Err(Diagnostic::error(
+                        v.span,
+                        format!("{letter} is not used by {code}, the canned cycle in force"),
+                    )
+                    .with_help("a line without a G code repeats the cycle at its X, Y and Z; it takes R and F too"));
+                }
+                if let (Some((_, v)), true) = (radius, motion.target.is_empty()) {
+                    return Err(Diagnostic::error(
+                        v.span,
+                        format!("R with no X, Y or Z does not repeat {code}, the canned cycle in force"),
+                    )
+                    .with_help("give the next hole's position on this line with it, e.g. X1 Y1 R0.2"));
+                }
+            }
+            None if !self.motion.is_arc() => {
+                if let Some((letter, v)) = centre.or(radius) {
+                    let code = self.motion.code();
+                    return Err(Diagnostic::error(
+                        v.span,
+                        format!("{letter} is not used by {code}, the motion mode in force"),
+                    )
+                    .with_help(
+                        "I, J, K and R belong to arcs: write G02 or G03 on this line for an arc, or remove the word",
+                    ));
+                }
+            }
+            None => {}
+        }
+        Ok(())
     }
 }
 
@@ -398,6 +449,35 @@ mod tests {
     fn bare_moves_take_the_mode_in_force_where_they_run() {
         let program = "G01 X1 F5\nM98 P2\nG00 X0\nM98 P2\nM30\nO2\nY1\nM99\n";
         assert_eq!(run(program, 0), ["G01 X1.0000 F5.0000", "G01 Y1.0000", "G00 X0.0000", "G00 Y1.0000", "M30"]);
+    }
+
+    #[test]
+    fn arc_words_on_a_bare_line_need_an_arc_to_use_them() {
+        // In G00/G01 nothing uses I, J, K or R: before, `R0.5` came out as `G00 R0.5000`.
+        assert_eq!(run("R0.5\nM30", 0), ["1:1: error: R is not used by G00, the motion mode in force", "M30"]);
+        assert_eq!(
+            run("G01 X1 F5\nX2 J1\nM30", 0),
+            ["G01 X1.0000 F5.0000", "2:4: error: J is not used by G01, the motion mode in force", "M30"]
+        );
+        // The mode is the one where the line runs, as for any bare move.
+        let got = run("G02 X2 I1 F5\nM98 P2\nG00 X0\nM98 P2\nM30\nO2\nI1\nM99", 0);
+        // First in G02: a full circle, the bare I1 being its centre.
+        assert_eq!(got[1], "G02 I1.0000", "{got:?}");
+        assert_eq!(got[3], "7:1: error: I is not used by G00, the motion mode in force", "{got:?}");
+        // An arc's own words are its business (pass 04 checks them).
+        assert_eq!(run("G02 X2 I1 F5\nX0 I-1\nM30", 0)[1], "G02 X0.0000 I-1.0000");
+    }
+
+    #[test]
+    fn a_canned_cycle_repeats_only_at_a_position_and_has_no_centre() {
+        let config = crate::config::Config { dialect: crate::statement::Dialect::Lenient, ..Default::default() };
+        let cycle = "G81 X0 Z-1 R0.1 F5\n";
+        // R changes with a new hole, not alone: alone LinuxCNC rejects it, and ger drilled the same hole again.
+        let got = run_with(&format!("{cycle}R0.2\nX1 R0.3\nM30"), &config, 0);
+        assert_eq!(got[1], "2:1: error: R with no X, Y or Z does not repeat G81, the canned cycle in force");
+        assert!(got[2].starts_with("G81 X1.0000") && got[2].contains("R0.3000"), "{got:?}");
+        let got = run_with(&format!("{cycle}X1 I2\nM30"), &config, 0);
+        assert_eq!(got[1], "2:4: error: I is not used by G81, the canned cycle in force");
     }
 
     #[test]

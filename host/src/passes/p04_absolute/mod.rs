@@ -302,7 +302,9 @@ impl Absolute {
 
 #[cfg(test)]
 mod tests {
-    use crate::passes::testing::run;
+    use crate::config::Config;
+    use crate::passes::testing::{run, run_with};
+    use crate::statement::Units;
 
     #[test]
     fn incremental_moves_become_absolute() {
@@ -362,6 +364,30 @@ mod tests {
                 "G01 X1.0000"
             ]
         );
+    }
+
+    #[test]
+    fn every_arc_linuxcnc_refuses_for_its_radii_is_refused() {
+        // LinuxCNC refuses a centre-format arc whose radii at the start and
+        // the end differ by more than 2 * 0.001 in * sqrt 2 (G20) or
+        // 2 * 0.01 mm * sqrt 2 (G21) and by more than 0.1% of the larger, or
+        // by more than 100 times that whatever the radius: the least error it
+        // refuses is just over 0.002828 in or 0.02828 mm. ger's limit, 0.0005 in
+        // or 0.01 mm in the machine's unit, is under both in either unit, so
+        // whatever LinuxCNC refuses, ger refuses. Here arcs of radius about 1
+        // (so 0.1% is far below the error) with radii differing by just over
+        // that least error, in both program units on both machines.
+        for machine in [Units::Inch, Units::Mm] {
+            let config = Config { units: machine, ..Default::default() };
+            for (code, least) in [("G20", 0.002 * 2f64.sqrt()), ("G21", 0.02 * 2f64.sqrt())] {
+                // From X0 to X2 about X=i: r1 = i, r2 = 2 - i, so r2 - r1 = 1.0002 * least.
+                let i = 1.0 - 0.5001 * least;
+                let program = format!("{code}\nG00 X0 Y0\nG02 X2 I{i:.10} F1");
+                let got = run_with(&program, &config, 4);
+                let refused = got.iter().any(|l| l.contains("error: arc end is not on the circle"));
+                assert!(refused, "{program} on a {machine:?} machine: {got:?}");
+            }
+        }
     }
 
     #[test]
