@@ -622,13 +622,26 @@ class Viewer {
     return { min, max };
   }
 
+  /** Centres the box of everything and backs off until its corners, seen
+   *  from the current direction, all fit in the canvas. */
   fit() {
     const box = this.box();
     if (!box) return;
-    this.camera.target = [0, 1, 2].map((k) => (box.min[k] + box.max[k]) / 2);
-    const radius = Math.max(1e-3, Math.hypot(...[0, 1, 2].map((k) => box.max[k] - box.min[k])) / 2);
-    const aspect = this.canvas.width / Math.max(1, this.canvas.height);
-    this.camera.dist = (radius * 1.1) / Math.sin(FOV / 2) / Math.min(1, aspect);
+    const c = this.camera;
+    c.target = [0, 1, 2].map((k) => (box.min[k] + box.max[k]) / 2);
+    c.dist = 0;
+    const view = this.viewMatrix(); // with dist 0: camera coordinates about the target
+    const aspect = this.canvas.width / Math.max(1, this.canvas.height), tan = Math.tan(FOV / 2);
+    let dist = 1e-3;
+    for (let corner = 0; corner < 8; corner++) {
+      const p = [0, 1, 2].map((k) => (corner >> k) & 1 ? box.max[k] : box.min[k]);
+      const x = view[0] * p[0] + view[4] * p[1] + view[8] * p[2] + view[12];
+      const y = view[1] * p[0] + view[5] * p[1] + view[9] * p[2] + view[13];
+      const z = this.top2d ? 0 : view[2] * p[0] + view[6] * p[1] + view[10] * p[2] + view[14];
+      // A corner at camera depth z needs the eye at least this far back.
+      dist = Math.max(dist, z + Math.abs(x) / (tan * aspect), z + Math.abs(y) / tan);
+    }
+    c.dist = dist * 1.08;
     this.requestDraw();
   }
 
@@ -669,9 +682,18 @@ class Viewer {
     this.requestDraw();
   }
 
+  /** The box's diagonal, or the camera's distance when there is nothing. */
+  size() {
+    const box = this.box();
+    return box ? Math.hypot(...[0, 1, 2].map((k) => box.max[k] - box.min[k])) : this.camera.dist;
+  }
+
   viewMatrix() {
     const c = this.camera;
-    let m = mat4.translate(0, 0, -c.dist);
+    // From above, the distance only scales the orthographic view; the eye
+    // stays clear of the part so zooming in never clips it.
+    const eye = this.top2d ? Math.max(c.dist, 2 * this.size()) : c.dist;
+    let m = mat4.translate(0, 0, -eye);
     m = mat4.multiply(m, mat4.rotateZ(c.roll));
     m = mat4.multiply(m, mat4.rotateX(c.pitch - Math.PI / 2));
     m = mat4.multiply(m, mat4.rotateZ(-c.yaw));
@@ -680,13 +702,11 @@ class Viewer {
 
   mvp() {
     const c = this.camera, aspect = this.canvas.width / Math.max(1, this.canvas.height);
-    const box = this.box();
-    const radius = box ? Math.hypot(...[0, 1, 2].map((k) => box.max[k] - box.min[k])) : c.dist;
-    const near = Math.max(c.dist * 0.01, c.dist - 2 * radius), far = c.dist + 2 * radius + 1;
+    const size = this.size();
     const halfH = c.dist * Math.tan(FOV / 2);
     const projection = this.top2d
-      ? mat4.ortho(halfH * aspect, halfH, 1e-3, far)
-      : mat4.perspective(FOV, aspect, near, far);
+      ? mat4.ortho(halfH * aspect, halfH, 1e-3, Math.max(c.dist, 2 * size) + 2 * size)
+      : mat4.perspective(FOV, aspect, Math.max(c.dist * 0.01, c.dist - 2 * size), c.dist + 2 * size + 1);
     return mat4.multiply(projection, this.viewMatrix());
   }
 
