@@ -382,15 +382,12 @@ void main() {
 
 const LINES_VS = `#version 300 es
 precision highp float;
-in vec3 a_p0;
-in vec3 a_p1;
-in uint a_kind;
+in vec4 a_point; // x, y, z, kind
 uniform mat4 u_mvp;
 flat out uint v_kind;
 void main() {
-  // One instance per toolpath record; its two vertices are its two ends.
-  v_kind = a_kind;
-  gl_Position = u_mvp * vec4(gl_VertexID == 0 ? a_p0 : a_p1, 1.0);
+  v_kind = uint(a_point.w);
+  gl_Position = u_mvp * vec4(a_point.xyz, 1.0);
 }`;
 
 const LINES_FS = `#version 300 es
@@ -404,13 +401,14 @@ const THICK_VS = `#version 300 es
 precision highp float;
 in vec3 a_p0;
 in vec3 a_p1;
+in float a_corner;
 uniform mat4 u_mvp;
 uniform vec2 u_viewport;
 uniform float u_width;
 void main() {
   // WebGL draws lines one pixel wide, so a selected piece is a quad of six
-  // vertices widened in screen space (and lengthened, to round its ends).
-  int id = gl_VertexID;
+  // vertices widened in screen space (and lengthened, to square its ends).
+  int id = int(a_corner);
   float end = (id == 2 || id == 4 || id == 5) ? 1.0 : 0.0;
   float side = (id == 1 || id == 2 || id == 4) ? 1.0 : -1.0;
   vec4 c0 = u_mvp * vec4(a_p0, 1.0), c1 = u_mvp * vec4(a_p1, 1.0);
@@ -469,9 +467,9 @@ class Viewer {
     this.heightTexture = gl.createTexture();
     this.gridIndices = gl.createBuffer();
     this.grid = null; // { gx, gy, count, origin, step, top, bottom }
-    this.path = this.recordSet(this.lines);
-    this.outline = this.recordSet(this.lines);
-    this.selection = this.recordSet(this.thick);
+    this.path = this.vertexSet(this.lines, [['a_point', 4]]);
+    this.outline = this.vertexSet(this.lines, [['a_point', 4]]);
+    this.selection = this.vertexSet(this.thick, [['a_p0', 3], ['a_p1', 3], ['a_corner', 1]]);
     this.records = null; // the toolpath, for picking and selection
     this.bounds = null;
     this.camera = { yaw: -0.5, pitch: 0.6, roll: 0, dist: 100, target: [0, 0, 0] };
@@ -484,33 +482,48 @@ class Viewer {
     this.resize();
   }
 
-  /** A buffer of toolpath records drawn one instance per record. */
-  recordSet(shader) {
+  /** A vertex buffer and its layout: `attributes` as [name, floats]. Plain
+   *  vertices, not instancing: SwiftShader (WebGL without a GPU, as in the
+   *  browser test) draws a million instances very slowly. */
+  vertexSet(shader, attributes) {
     const gl = this.gl;
     const vao = gl.createVertexArray(), buffer = gl.createBuffer();
+    const stride = 4 * attributes.reduce((n, [, size]) => n + size, 0);
     gl.bindVertexArray(vao);
     gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-    const p0 = shader.attrib('a_p0'), p1 = shader.attrib('a_p1'), kind = shader.attrib('a_kind');
-    gl.enableVertexAttribArray(p0);
-    gl.vertexAttribPointer(p0, 3, gl.FLOAT, false, RECORD, 0);
-    gl.vertexAttribDivisor(p0, 1);
-    gl.enableVertexAttribArray(p1);
-    gl.vertexAttribPointer(p1, 3, gl.FLOAT, false, RECORD, 12);
-    gl.vertexAttribDivisor(p1, 1);
-    if (kind >= 0) {
-      gl.enableVertexAttribArray(kind);
-      gl.vertexAttribIPointer(kind, 1, gl.UNSIGNED_INT, RECORD, 28);
-      gl.vertexAttribDivisor(kind, 1);
+    let offset = 0;
+    for (const [name, size] of attributes) {
+      const at = shader.attrib(name);
+      gl.enableVertexAttribArray(at);
+      gl.vertexAttribPointer(at, size, gl.FLOAT, false, stride, offset);
+      offset += 4 * size;
     }
     gl.bindVertexArray(null);
-    return { vao, buffer, count: 0 };
+    return { vao, buffer, stride, count: 0 };
   }
 
-  upload(set, bytes) {
+  upload(set, floats) {
     const gl = this.gl;
     gl.bindBuffer(gl.ARRAY_BUFFER, set.buffer);
-    gl.bufferData(gl.ARRAY_BUFFER, bytes, gl.STATIC_DRAW);
-    set.count = bytes.byteLength / RECORD;
+    gl.bufferData(gl.ARRAY_BUFFER, floats, gl.STATIC_DRAW);
+    set.count = floats.byteLength / set.stride;
+  }
+
+  /** Toolpath records (or the outline's) as line vertices: x, y, z, kind. */
+  lineVertices(records, words) {
+    const n = records.length / 8, out = new Float32Array(n * 8);
+    for (let i = 0; i < n; i++) {
+      const r = i * 8, kind = words[r + 7];
+      out[r] = records[r];
+      out[r + 1] = records[r + 1];
+      out[r + 2] = records[r + 2];
+      out[r + 3] = kind;
+      out[r + 4] = records[r + 3];
+      out[r + 5] = records[r + 4];
+      out[r + 6] = records[r + 5];
+      out[r + 7] = kind;
+    }
+    return out;
   }
 
   /** `part` as /api/state gives it (or null), `heights` its Float32Array. */
@@ -518,7 +531,7 @@ class Viewer {
     const gl = this.gl;
     if (!part || !heights) {
       this.grid = null;
-      this.upload(this.outline, new ArrayBuffer(0));
+      this.upload(this.outline, new Float32Array(0));
       this.requestDraw();
       return;
     }
@@ -583,7 +596,7 @@ class Viewer {
       new Float32Array(box, i * RECORD, 6).set([...a, ...b]);
       new Uint32Array(box, i * RECORD + 24, 2).set([0, 3]);
     });
-    this.upload(this.outline, box);
+    this.upload(this.outline, this.lineVertices(new Float32Array(box), new Uint32Array(box)));
     this.partBox = { min: [part.x0, part.y0, part.bottom], max: [x1, y1, part.top] };
     this.requestDraw();
   }
@@ -592,7 +605,7 @@ class Viewer {
   setPath(buffer, box) {
     this.records = buffer && buffer.byteLength ? new Float32Array(buffer) : null;
     this.recordWords = buffer && buffer.byteLength ? new Uint32Array(buffer) : null;
-    this.upload(this.path, buffer || new ArrayBuffer(0));
+    this.upload(this.path, this.records ? this.lineVertices(this.records, this.recordWords) : new Float32Array(0));
     this.pathBox = box;
     this.requestDraw();
   }
@@ -604,10 +617,16 @@ class Viewer {
     if (words && wanted) {
       for (let i = 0, n = words.length / 8; i < n; i++) if (wanted(words[i * 8 + 6])) picked.push(i);
     }
-    const bytes = new Uint8Array(picked.length * RECORD);
-    const all = new Uint8Array(words ? words.buffer : new ArrayBuffer(0));
-    picked.forEach((piece, k) => bytes.set(all.subarray(piece * RECORD, (piece + 1) * RECORD), k * RECORD));
-    this.upload(this.selection, bytes);
+    // Six vertices (two triangles) a piece, each with both ends and its corner.
+    const out = new Float32Array(picked.length * 6 * 7), r = this.records;
+    picked.forEach((piece, k) => {
+      for (let corner = 0; corner < 6; corner++) {
+        const v = (k * 6 + corner) * 7;
+        out.set(r.subarray(piece * 8, piece * 8 + 6), v);
+        out[v + 6] = corner;
+      }
+    });
+    this.upload(this.selection, out);
     this.requestDraw();
     return picked.length;
   }
@@ -849,7 +868,7 @@ class Viewer {
     for (const set of [this.outline, this.path]) {
       if (!set.count) continue;
       gl.bindVertexArray(set.vao);
-      gl.drawArraysInstanced(gl.LINES, 0, 2, set.count);
+      gl.drawArrays(gl.LINES, 0, set.count);
     }
 
     if (this.selection.count) {
@@ -862,7 +881,7 @@ class Viewer {
       gl.uniform1f(t.uniforms.u_width, 4 * (window.devicePixelRatio || 1));
       gl.uniform4fv(t.uniforms.u_colour, HIGHLIGHT);
       gl.bindVertexArray(this.selection.vao);
-      gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, this.selection.count);
+      gl.drawArrays(gl.TRIANGLES, 0, this.selection.count);
     }
     gl.bindVertexArray(null);
   }
