@@ -8,7 +8,7 @@
 //! `UPDATE_SCREENSHOT=1` writes the screenshot to `docs/view.png`, the one the
 //! README shows.
 
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
@@ -54,7 +54,11 @@ fn the_page_in_chromium() {
         let what = missing.join(", ");
         let skip = std::env::var("GER_SKIP_BROWSER").is_ok_and(|v| v == "1");
         if skip && std::env::var_os("CI").is_none() {
-            eprintln!("\n**********\n*** SKIPPED: the browser test of `ger view` (no {what}; GER_SKIP_BROWSER=1)\n**********\n");
+            // Straight to stderr: the test harness captures `eprintln!` of a passing test.
+            let _ = writeln!(
+                std::io::stderr(),
+                "\n**********\n*** SKIPPED: the browser test of `ger view` (no {what}; GER_SKIP_BROWSER=1)\n**********\n"
+            );
             return;
         }
         panic!(
