@@ -383,19 +383,28 @@ void main() {
 const LINES_VS = `#version 300 es
 precision highp float;
 in vec4 a_point; // x, y, z, kind
+in float a_along; // 0 at a piece's start, its length at its end
 uniform mat4 u_mvp;
 flat out uint v_kind;
+out float v_along;
 void main() {
   v_kind = uint(a_point.w);
+  v_along = a_along;
   gl_Position = u_mvp * vec4(a_point.xyz, 1.0);
 }`;
 
 const LINES_FS = `#version 300 es
 precision highp float;
 uniform vec4 u_colours[4];
+uniform float u_dash;
 flat in uint v_kind;
+in float v_along;
 out vec4 colour;
-void main() { colour = u_colours[min(v_kind, 3u)]; }`;
+void main() {
+  // Rapids dashed, so they read as rapids without their colour too.
+  if (v_kind == 0u && fract(v_along / u_dash) > 0.6) discard;
+  colour = u_colours[min(v_kind, 3u)];
+}`;
 
 const THICK_VS = `#version 300 es
 precision highp float;
@@ -467,8 +476,8 @@ class Viewer {
     this.heightTexture = gl.createTexture();
     this.gridIndices = gl.createBuffer();
     this.grid = null; // { gx, gy, count, origin, step, top, bottom }
-    this.path = this.vertexSet(this.lines, [['a_point', 4]]);
-    this.outline = this.vertexSet(this.lines, [['a_point', 4]]);
+    this.path = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
+    this.outline = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
     this.selection = this.vertexSet(this.thick, [['a_p0', 3], ['a_p1', 3], ['a_corner', 1]]);
     this.records = null; // the toolpath, for picking and selection
     this.bounds = null;
@@ -509,19 +518,22 @@ class Viewer {
     set.count = floats.byteLength / set.stride;
   }
 
-  /** Toolpath records (or the outline's) as line vertices: x, y, z, kind. */
+  /** Toolpath records (or the outline's) as line vertices: x, y, z, kind,
+   *  distance along the piece. */
   lineVertices(records, words) {
-    const n = records.length / 8, out = new Float32Array(n * 8);
+    const n = records.length / 8, out = new Float32Array(n * 10);
     for (let i = 0; i < n; i++) {
-      const r = i * 8, kind = words[r + 7];
-      out[r] = records[r];
-      out[r + 1] = records[r + 1];
-      out[r + 2] = records[r + 2];
-      out[r + 3] = kind;
-      out[r + 4] = records[r + 3];
-      out[r + 5] = records[r + 4];
-      out[r + 6] = records[r + 5];
-      out[r + 7] = kind;
+      const r = i * 8, o = i * 10, kind = words[r + 7];
+      out[o] = records[r];
+      out[o + 1] = records[r + 1];
+      out[o + 2] = records[r + 2];
+      out[o + 3] = kind;
+      out[o + 4] = 0;
+      out[o + 5] = records[r + 3];
+      out[o + 6] = records[r + 4];
+      out[o + 7] = records[r + 5];
+      out[o + 8] = kind;
+      out[o + 9] = Math.hypot(records[r + 3] - records[r], records[r + 4] - records[r + 1], records[r + 5] - records[r + 2]);
     }
     return out;
   }
@@ -877,6 +889,7 @@ class Viewer {
     gl.useProgram(program);
     gl.uniformMatrix4fv(u.u_mvp, false, mvp);
     gl.uniform4fv(u.u_colours, KIND_COLOURS.flat());
+    gl.uniform1f(u.u_dash, Math.max(1e-3, this.size() / 150));
     for (const set of [this.outline, this.path]) {
       if (!set.count) continue;
       gl.bindVertexArray(set.vao);
@@ -941,7 +954,8 @@ const outputList = new VirtualList(
   (i) => {
     const row = el('div');
     const src = app.sourceOf[i];
-    row.append(el('span', 'src', src ? String(src) : ''), el('span', 'text', app.output[i]));
+    const diags = src && editor.diagnostics.get(src);
+    row.append(el('span', `src ${diags ? worst(diags) : ''}`, src ? String(src) : ''), el('span', 'text', app.output[i]));
     const sel = app.selection;
     if (sel && 'out' in sel && sel.out === i) row.classList.add('sel');
     else if (sel && src && src === selectedSource()) row.classList.add('related');
