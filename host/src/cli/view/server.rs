@@ -146,7 +146,9 @@ fn wanted(session: &Session, query: Result<Query<Wanted>, QueryRejection>) -> Re
             StatusCode::GONE,
             format!("snapshot {version} has been replaced by {}: fetch /api/state again", snapshot.version),
         )),
-        std::cmp::Ordering::Greater => Err(refuse(StatusCode::BAD_REQUEST, format!("there is no snapshot {version} yet"))),
+        std::cmp::Ordering::Greater => {
+            Err(refuse(StatusCode::BAD_REQUEST, format!("there is no snapshot {version} yet")))
+        }
     }
 }
 

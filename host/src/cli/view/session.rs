@@ -21,7 +21,7 @@ use crate::diag::{Diagnostic, Severity, Span};
 use crate::emit::{preamble, Emitter};
 use crate::passes::Event;
 use crate::render::pieces::{self, Piece};
-use crate::sim::{HeightField, Stock, Step, Walker};
+use crate::sim::{HeightField, Step, Stock, Walker};
 use crate::statement::Statement;
 
 /// Above this many pieces the toolpath sent to the page is decimated.
@@ -560,12 +560,7 @@ fn snapshot(version: u64, program: &Program, made: Made, elapsed_ms: u64) -> Sna
         elapsed_ms,
     };
     let json = serde_json::to_string(&body).expect("the snapshot serialises: no maps, no non-string keys");
-    Snapshot {
-        version,
-        rest: Bytes::from(json).slice(1..),
-        heights: Bytes::from(heights),
-        path: Bytes::from(path),
-    }
+    Snapshot { version, rest: Bytes::from(json).slice(1..), heights: Bytes::from(heights), path: Bytes::from(path) }
 }
 
 fn diagnostic(rule: Option<Rule>, d: &Diagnostic, columns: &Columns) -> JsonDiagnostic {

@@ -17,8 +17,8 @@ use super::session::Session;
 /// Starts following `session`'s files on a thread of its own.
 pub(super) fn start(session: Arc<Session>) -> Result<(), String> {
     let (tx, rx) = mpsc::channel();
-    let watcher =
-        notify::recommended_watcher(tx).map_err(|err| plain_error(&format!("cannot watch for changes: {err}"), None))?;
+    let watcher = notify::recommended_watcher(tx)
+        .map_err(|err| plain_error(&format!("cannot watch for changes: {err}"), None))?;
     std::thread::Builder::new()
         .name("ger view watcher".to_string())
         .spawn(move || follow(watcher, &rx, &session))
