@@ -28,12 +28,12 @@ impl Drop for Server {
     }
 }
 
-/// `ger view FILE --port 0` in `dir`, once it has said where it serves.
-fn start(dir: tempfile::TempDir, file: &str) -> Server {
+/// `ger view FILE --port 0 --wizards WIZARDS` in `dir`, once it has said where it serves.
+fn start(dir: tempfile::TempDir, file: &str, wizards: &Path) -> Server {
     let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
         .current_dir(dir.path())
         .args(["view", file, "--port", "0", "--wizards"])
-        .arg(root().join("wizards"))
+        .arg(wizards)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
@@ -132,12 +132,16 @@ impl Server {
 }
 
 /// A copy of `examples/`'s pocket program and its machine in a folder of its own.
-fn pocket() -> Server {
+fn pocket_folder() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     for name in ["pocket.ngc", "ger.toml"] {
         std::fs::copy(root().join("examples").join(name), dir.path().join(name)).unwrap();
     }
-    start(dir, "pocket.ngc")
+    dir
+}
+
+fn pocket() -> Server {
+    start(pocket_folder(), "pocket.ngc", &root().join("wizards"))
 }
 
 fn lines(state: &Value) -> Vec<String> {
@@ -299,7 +303,7 @@ fn simple() -> Server {
     std::fs::write(dir.path().join("notes.txt"), "not G-code").unwrap();
     #[cfg(unix)]
     std::os::unix::fs::symlink("/etc/hostname", dir.path().join("out.ngc")).unwrap();
-    start(dir, "a.ngc")
+    start(dir, "a.ngc", &root().join("wizards"))
 }
 
 #[test]
@@ -404,4 +408,37 @@ fn events_tell_when_a_snapshot_is_made() {
     read_until("event: snapshot\ndata: {\"version\":1}");
     let version = server.post("/api/source", "G21\nG00 X3\nM30\n").json()["version"].as_u64().unwrap();
     read_until(&format!("event: snapshot\ndata: {{\"version\":{version}}}"));
+}
+
+#[test]
+fn a_wizard_changed_on_disk_is_used_at_once() {
+    // The example's wizards, built if need be (by `ger run`, as any test that runs the example does)...
+    let run = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["run", "--wizards"])
+        .arg(root().join("wizards"))
+        .arg(root().join("examples/pocket.ngc"))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    // ...and copied to a folder of their own.
+    let dir = pocket_folder();
+    let wizards = dir.path().join("wizards");
+    std::fs::create_dir(&wizards).unwrap();
+    for name in ["pocket.wasm", "boltcircle.wasm"] {
+        std::fs::copy(root().join("wizards").join(name), wizards.join(name)).unwrap();
+    }
+    let server = start(dir, "pocket.ngc", &wizards);
+    assert_eq!(server.state_at(1)["diagnostics"], serde_json::json!([]));
+
+    // Pocket gone: its call is an error.
+    let pocket = std::fs::read(wizards.join("pocket.wasm")).unwrap();
+    std::fs::remove_file(wizards.join("pocket.wasm")).unwrap();
+    let missing = server.state_when(|s| !s["diagnostics"].as_array().unwrap().is_empty());
+    let d = &missing["diagnostics"][0];
+    assert_eq!((d["line"].as_u64(), d["severity"].as_str()), (Some(10), Some("error")), "{d:#}");
+    assert!(d["message"].as_str().unwrap().contains("Pocket"), "{d:#}");
+
+    // Back: the call works again.
+    std::fs::write(wizards.join("pocket.wasm"), pocket).unwrap();
+    server.state_when(|s| s["diagnostics"] == serde_json::json!([]));
 }
