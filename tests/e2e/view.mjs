@@ -128,7 +128,9 @@ try {
   }
 
   await step(`a screenshot goes to ${screenshot}`, async () => {
-    await page.locator('#output .vrow.sel, #output .vrow.related').first().click();
+    // The feed move selected again: the picture shows a highlight on the part.
+    await page.locator('#output').evaluate((e, l) => (e.scrollTop = Math.max(0, l * 18 - 100)), line);
+    await page.locator(`#output .vrow[data-i="${line}"]`).click();
     await page.waitForTimeout(200);
     await page.screenshot({ path: screenshot });
   });

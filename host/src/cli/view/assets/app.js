@@ -955,7 +955,9 @@ const outputList = new VirtualList(
     const row = el('div');
     const src = app.sourceOf[i];
     const diags = src && editor.diagnostics.get(src);
-    row.append(el('span', `src ${diags ? worst(diags) : ''}`, src ? String(src) : ''), el('span', 'text', app.output[i]));
+    // The N numbers are already the program's lines (as the manual's
+    // translator wrote them); the gutter numbers the output's own lines.
+    row.append(el('span', `num ${diags ? worst(diags) : ''}`, String(i + 1)), el('span', 'text', app.output[i]));
     const sel = app.selection;
     if (sel && 'out' in sel && sel.out === i) row.classList.add('sel');
     else if (sel && src && src === selectedSource()) row.classList.add('related');
@@ -1082,7 +1084,7 @@ function show(state, heights, path) {
   // Output.
   app.output = splitLines(state.output.text);
   app.sourceOf = Int32Array.from(state.output.source_lines);
-  $('outCount').textContent = `${app.output.length.toLocaleString()} lines (← program line)`;
+  $('outCount').textContent = `${app.output.length.toLocaleString()} lines`;
   outputList.setCount(app.output.length);
 
   // Diagnostics, by line for the editor and as a list.
