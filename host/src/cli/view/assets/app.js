@@ -1017,10 +1017,15 @@ function select(selection, { revealOutput = false, revealSource = false } = {}) 
   $('selection').textContent = what && `${what}; ${pieces} piece${pieces === 1 ? '' : 's'}`;
 }
 
+let messageTimer = 0;
+
+/** A note in the status bar; errors stay until the next note, others fade. */
 function message(text, isError = false) {
   const m = $('message');
   m.textContent = text;
   m.style.color = isError ? 'var(--error)' : '';
+  clearTimeout(messageTimer);
+  if (!isError) messageTimer = setTimeout(() => (m.textContent = ''), 3000);
 }
 
 // ── snapshots ──
