@@ -16,7 +16,10 @@ const { browser, page, errors } = await launch();
 try {
   await step('the page opens and shows a snapshot', async () => {
     await page.goto(url);
-    await waitShown(page, 1);
+    // Generous: on a fresh machine the first snapshot waits for the example's
+    // wizards to be built.
+    await waitShown(page, 1, 300000);
+    if (await page.locator('#noGl').isVisible()) fail('this Chromium gives the page no WebGL2');
   });
 
   const { state, pieces } = await fetchData(page);
