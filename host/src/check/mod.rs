@@ -19,7 +19,7 @@ use serde::Deserialize;
 
 use crate::config::{Config, ToolKind};
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::sim::{Contact, Point, Segment, Simulation, Tracker};
+use crate::sim::{Contact, HeightField, Point, Segment, Simulation, Tracker};
 use crate::statement::{Kind, Machine, Statement};
 pub use summary::{Bounds, Summary, ToolUse};
 
@@ -236,7 +236,12 @@ impl<'c> Checker<'c> {
     }
 
     /// Cuts what is left and reports.
-    pub fn finish(mut self) -> Verdict {
+    pub fn finish(self) -> Verdict {
+        self.finish_with_part().0
+    }
+
+    /// Cuts what is left and reports, with the part as cut (what `ger view` shows).
+    pub fn finish_with_part(mut self) -> (Verdict, HeightField) {
         self.sim.settle();
         let contacts = self.sim.take_contacts();
         self.judge(contacts);
@@ -244,7 +249,7 @@ impl<'c> Checker<'c> {
         // Stable: a translator's diagnostic stays before the checks of the move it precedes.
         self.findings.sort_by_key(|f| f.order);
         self.summary.measure_cut(self.sim.field(), self.tolerance);
-        Verdict { findings: self.findings, summary: self.summary }
+        (Verdict { findings: self.findings, summary: self.summary }, self.sim.finish())
     }
 
     /// Takes what the simulation has reported and forgets the moves it is done with.

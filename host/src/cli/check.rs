@@ -72,7 +72,7 @@ fn positive(text: &str) -> Result<f64, String> {
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input)?;
+    let config = load_config(&args.common, &input, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let quiet = args.quiet || args.format == Output::Json;
 

@@ -4,6 +4,7 @@
 mod check;
 mod render;
 mod report;
+mod view;
 mod wizard;
 
 use std::fs::File;
@@ -47,6 +48,9 @@ enum Command {
     /// Make, build and list wizards.
     #[command(subcommand)]
     Wizard(wizard::WizardCommand),
+    /// Serve a page on 127.0.0.1 that shows the program, its translation, its
+    /// diagnostics and the simulated part, updated live as any of them changes.
+    View(Box<view::ViewArgs>),
 }
 
 #[derive(Args)]
@@ -154,6 +158,7 @@ pub fn main() -> i32 {
         Command::Render(args) => render::render(&args),
         Command::Pulses(args) => render::pulses(&args),
         Command::Wizard(command) => wizard::main(command),
+        Command::View(args) => view::main(*args),
     };
     match result {
         Ok(status) => status,
@@ -165,10 +170,12 @@ pub fn main() -> i32 {
 }
 
 /// A program to read: a file, which can be read again from the start, or
-/// standard input, held in memory so it can be too.
+/// standard input, held in memory so it can be too; or text held in memory
+/// under a name, with the folder it belongs in (`ger view`'s, edited in the page).
 enum Input {
     File(PathBuf),
     Stdin(Vec<u8>),
+    Text { name: String, dir: PathBuf, text: std::sync::Arc<str> },
 }
 
 impl Input {
@@ -187,6 +194,7 @@ impl Input {
         match self {
             Input::File(path) => path.display().to_string(),
             Input::Stdin(_) => "<stdin>".to_string(),
+            Input::Text { name, .. } => name.clone(),
         }
     }
 
@@ -198,6 +206,7 @@ impl Input {
                 Err(err) => Box::new(FailingReader(Some(err))),
             },
             Input::Stdin(buffer) => Box::new(buffer.as_slice()),
+            Input::Text { text, .. } => Box::new(text.as_bytes()),
         }
     }
 
@@ -205,6 +214,7 @@ impl Input {
         match self {
             Input::File(path) => path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf),
             Input::Stdin(_) => PathBuf::from("."),
+            Input::Text { dir, .. } => dir.clone(),
         }
     }
 }
@@ -226,7 +236,9 @@ impl BufRead for FailingReader {
     fn consume(&mut self, _: usize) {}
 }
 
-fn load_config(args: &CommonArgs, input: &Input) -> Result<Config, String> {
+/// The machine: `args.config`, or `ger.toml` beside the program. A bad one is
+/// an error rendered as rustc would (with colour when `styled`).
+fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config, String> {
     let path = match &args.config {
         Some(path) => Some(path.clone()),
         None => Some(input.dir().join("ger.toml")).filter(|p| p.is_file()),
@@ -240,7 +252,7 @@ fn load_config(args: &CommonArgs, input: &Input) -> Result<Config, String> {
                 let mut report = Report::default();
                 report.add(diagnostic);
                 report
-                    .render(&name, text.as_bytes(), styled())
+                    .render(&name, text.as_bytes(), styled)
                     .replace("could not translate the program", "bad configuration")
             })?
         }
@@ -313,7 +325,7 @@ fn run(args: &RunArgs) -> Result<i32, String> {
 }
 
 fn run_once(args: &RunArgs, input: &Input) -> Result<i32, String> {
-    let config = load_config(&args.common, input)?;
+    let config = load_config(&args.common, input, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     // Write to a temporary file first: a failed run leaves no half-written output.
     let dir = args.output.as_ref().and_then(|p| p.parent()).filter(|d| !d.as_os_str().is_empty());

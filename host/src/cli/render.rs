@@ -12,7 +12,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::report::{plain_error, Report};
-use super::{library, load_config, show, CommonArgs, Input};
+use super::{library, load_config, show, styled, CommonArgs, Input};
 use crate::config::Config;
 use crate::expand::Wizards;
 use crate::passes::{translate, Event, Options, LAST_STAGE};
@@ -89,7 +89,7 @@ pub(crate) struct PulsesArgs {
     limit: Option<u64>,
 }
 
-fn positive(text: &str) -> Result<f64, String> {
+pub(super) fn positive(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
         _ => Err("expected a number above zero".to_string()),
@@ -293,6 +293,7 @@ pub(super) fn input_size(input: &Input) -> u64 {
     match input {
         Input::File(path) => std::fs::metadata(path).map_or(0, |m| m.len()),
         Input::Stdin(buffer) => buffer.len() as u64,
+        Input::Text { text, .. } => text.len() as u64,
     }
 }
 
@@ -323,7 +324,7 @@ pub(super) fn usage_error(message: &str) -> Result<i32, String> {
 
 pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input)?;
+    let config = load_config(&args.common, &input, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let extension = args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let wants_view = args.view.is_some() || args.azimuth.is_some() || args.elevation.is_some();
@@ -444,7 +445,7 @@ fn round_up(x: f64) -> String {
 
 pub(crate) fn pulses(args: &PulsesArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input)?;
+    let config = load_config(&args.common, &input, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let spu = args.steps_per_unit.unwrap_or(match config.units {
         crate::statement::Units::Inch => 1000.0,

@@ -1,11 +1,13 @@
 //! Pictures and meshes of a simulated part: the 2D top view shaded by depth
 //! ([`top`]), a lit 3D view with an optional toolpath ([`view`]), the
-//! toolpath alone, and a watertight binary STL ([`mesh`]). Everything here
+//! toolpath alone, a watertight binary STL ([`mesh`]), and the toolpath as
+//! straight pieces for a viewer to draw ([`pieces`]). Everything here
 //! takes a height field or segments and writes to any `Write`; `cli` picks
 //! the files.
 
 pub mod font;
 pub mod mesh;
+pub mod pieces;
 pub mod top;
 pub mod view;
 

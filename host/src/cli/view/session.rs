@@ -1,0 +1,646 @@
+//! The session `ger view` serves: one program (its file, its folder, the text
+//! the page last sent) and the snapshots made of it. One worker thread makes
+//! snapshots; changes that arrive while it works wait, and the next snapshot
+//! takes them all at once (the latest text wins).
+
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::Instant;
+
+use axum::body::Bytes;
+use serde::Serialize;
+use tokio::sync::watch;
+
+use super::super::render::{bounds, simulation, walk_events};
+use super::super::report::{plain_error, read_error};
+use super::super::{load_config, Input};
+use super::ViewArgs;
+use crate::check::{Checker, Rule};
+use crate::diag::{Diagnostic, Severity, Span};
+use crate::emit::{preamble, Emitter};
+use crate::passes::Event;
+use crate::render::pieces::{self, Piece};
+use crate::sim::{HeightField, Step, Stock, Walker};
+use crate::statement::Statement;
+
+/// Above this many pieces the toolpath sent to the page is decimated.
+const MAX_PIECES: usize = 200_000;
+/// Above this many lines the page shows the program without editing it.
+const READ_ONLY_LINES: usize = 50_000;
+/// By default the part is simulated in this many cells along the stock's longer side.
+const CELLS: f64 = 500.0;
+
+/// What a snapshot or a client waiting on one is told, by the events it becomes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Notice {
+    /// Snapshot N is being made.
+    Busy(u64),
+    /// Snapshot N is ready.
+    Ready(u64),
+}
+
+/// A program as the session holds it.
+#[derive(Clone)]
+struct Program {
+    /// Canonical.
+    file: PathBuf,
+    /// Relative to the session's folder, with `/` between parts.
+    name: String,
+    /// The page's text: the file's unless edited since.
+    text: Arc<str>,
+    /// The file's text as the session last read or wrote it.
+    disk: Arc<str>,
+    /// The file changed on disk while the page's text had unsaved edits.
+    conflict: bool,
+}
+
+impl Program {
+    fn saved(&self) -> bool {
+        self.text == self.disk
+    }
+}
+
+struct State {
+    /// The newest change's number: the snapshot that will show it.
+    version: u64,
+    /// A change is waiting for the worker.
+    pending: bool,
+    program: Program,
+}
+
+/// Why a path asked for cannot be opened.
+pub(super) enum Refusal {
+    /// Absolute, climbing with `..`, or a symlink out of the folder.
+    Outside,
+    Missing,
+    TooLarge,
+    NotText,
+}
+
+/// A snapshot: the program translated, checked and simulated, ready to send.
+pub(super) struct Snapshot {
+    pub version: u64,
+    /// The state's JSON after its opening brace, without `version` and `busy`,
+    /// which are put in front of it when it is sent (`busy` changes without a new snapshot).
+    rest: Bytes,
+    /// `nx × ny` little-endian f32; empty without a part.
+    pub heights: Bytes,
+    /// 32 bytes a piece of toolpath.
+    pub path: Bytes,
+}
+
+impl Snapshot {
+    /// `/api/state`'s body, in two parts to send one after the other.
+    pub fn state(&self, busy: bool) -> (Bytes, Bytes) {
+        (Bytes::from(format!("{{\"version\":{},\"busy\":{},", self.version, busy)), self.rest.clone())
+    }
+}
+
+pub(super) struct Session {
+    args: ViewArgs,
+    /// The program's folder, canonical: all that `/api/open` and `/api/files` reach.
+    pub folder: PathBuf,
+    state: Mutex<State>,
+    wake: Condvar,
+    latest: Mutex<Arc<Snapshot>>,
+    notices: watch::Sender<Notice>,
+}
+
+impl Session {
+    /// Reads the program and starts the worker on its first snapshot.
+    pub fn start(args: ViewArgs) -> Result<Arc<Session>, String> {
+        let given = &args.common.file;
+        let cannot = |err: io::Error| read_error(&given.display().to_string(), &err);
+        let file = given.canonicalize().map_err(cannot)?;
+        let text: Arc<str> = std::fs::read_to_string(&file).map_err(cannot)?.into();
+        let folder = file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
+        let name = file.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let program = Program { file, name, text: text.clone(), disk: text, conflict: false };
+        let empty = Arc::new(snapshot(0, &program, Made::default(), 0));
+        let session = Arc::new(Session {
+            args,
+            folder,
+            state: Mutex::new(State { version: 1, pending: true, program }),
+            wake: Condvar::new(),
+            latest: Mutex::new(empty),
+            notices: watch::Sender::new(Notice::Busy(1)),
+        });
+        let worker = session.clone();
+        std::thread::Builder::new()
+            .name("ger view snapshots".to_string())
+            .spawn(move || worker.work())
+            .map_err(|err| plain_error(&format!("cannot start the snapshot worker: {err}"), None))?;
+        Ok(session)
+    }
+
+    fn lock(&self) -> MutexGuard<'_, State> {
+        // A panic while holding the lock leaves the state consistent: every change is one assignment.
+        self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    /// Asks for a snapshot of the state as changed now; returns its number.
+    fn changed(&self, state: &mut State) -> u64 {
+        state.version += 1;
+        state.pending = true;
+        self.wake.notify_one();
+        state.version
+    }
+
+    /// The latest snapshot, and whether a newer one is on its way.
+    pub fn latest(&self) -> (Arc<Snapshot>, bool) {
+        let snapshot = self.latest.lock().unwrap_or_else(|p| p.into_inner()).clone();
+        let busy = self.lock().version > snapshot.version;
+        (snapshot, busy)
+    }
+
+    pub fn notices(&self) -> watch::Receiver<Notice> {
+        self.notices.subscribe()
+    }
+
+    /// The page's text, not saved.
+    pub fn edit(&self, text: String) -> u64 {
+        let mut state = self.lock();
+        state.program.text = text.into();
+        if state.program.saved() {
+            state.program.conflict = false;
+        }
+        self.changed(&mut state)
+    }
+
+    /// The page's text, written to the file. The lock is held while writing,
+    /// so the watcher, seeing the file change, finds the text it already knows.
+    pub fn save(&self, text: String) -> Result<u64, String> {
+        let mut state = self.lock();
+        write_atomically(&state.program.file, text.as_bytes())?;
+        let text: Arc<str> = text.into();
+        state.program.text = text.clone();
+        state.program.disk = text;
+        state.program.conflict = false;
+        Ok(self.changed(&mut state))
+    }
+
+    /// Drops unsaved edits: the file's text again.
+    pub fn reload(&self) -> Result<u64, String> {
+        let mut state = self.lock();
+        let text: Arc<str> = read(&state.program.file)?.into();
+        state.program.text = text.clone();
+        state.program.disk = text;
+        state.program.conflict = false;
+        Ok(self.changed(&mut state))
+    }
+
+    /// Views another program of the folder, `relative` to it.
+    pub fn open(&self, relative: &str) -> Result<u64, Refusal> {
+        let file = self.resolve(relative)?;
+        let size = std::fs::metadata(&file).map_err(|_| Refusal::Missing)?.len();
+        if size > super::server::BODY_LIMIT as u64 {
+            return Err(Refusal::TooLarge);
+        }
+        let text: Arc<str> = std::fs::read_to_string(&file).map_err(|_| Refusal::NotText)?.into();
+        let name = file.strip_prefix(&self.folder).map_or_else(|_| relative.to_string(), slashed);
+        let mut state = self.lock();
+        state.program = Program { file, name, text: text.clone(), disk: text, conflict: false };
+        Ok(self.changed(&mut state))
+    }
+
+    /// The canonical path of the file `relative` names, if it is in the folder.
+    fn resolve(&self, relative: &str) -> Result<PathBuf, Refusal> {
+        let path = Path::new(relative);
+        let climbs = path.components().any(|c| !matches!(c, std::path::Component::Normal(_)));
+        // `Path::is_absolute` misses `/x` on Windows and `C:x` anywhere: refuse any root or prefix.
+        if relative.is_empty() || climbs || relative.starts_with(['/', '\\']) {
+            return Err(Refusal::Outside);
+        }
+        let joined = self.folder.join(path);
+        let file = joined.canonicalize().map_err(|_| match joined.symlink_metadata() {
+            // A dangling symlink: wherever it points, it does not lead to a file here.
+            Ok(_) => Refusal::Outside,
+            Err(_) => Refusal::Missing,
+        })?;
+        if !file.starts_with(&self.folder) {
+            return Err(Refusal::Outside);
+        }
+        if !file.is_file() {
+            return Err(Refusal::Missing);
+        }
+        Ok(file)
+    }
+
+    /// The file the watcher reports changed: the page follows it unless it has
+    /// unsaved edits (then it is a conflict). A save of our own changes nothing.
+    pub fn file_changed(&self) {
+        let file = self.lock().program.file.clone();
+        // Missing while an editor replaces it: the next event brings the new file.
+        let Ok(text) = read(&file) else { return };
+        let mut state = self.lock();
+        if state.program.file != file || *state.program.disk == *text {
+            return;
+        }
+        if state.program.saved() {
+            state.program.text = text.as_str().into();
+        } else {
+            state.program.conflict = true;
+        }
+        state.program.disk = text.into();
+        self.changed(&mut state);
+    }
+
+    /// The config or a wizard changed: the same text again.
+    pub fn machine_changed(&self) {
+        let mut state = self.lock();
+        self.changed(&mut state);
+    }
+
+    /// The files the watcher looks at now: the program, and its config.
+    pub fn watched(&self) -> (PathBuf, PathBuf) {
+        let file = self.lock().program.file.clone();
+        let config = match &self.args.common.config {
+            Some(path) => path.clone(),
+            None => file.with_file_name("ger.toml"),
+        };
+        (file, config)
+    }
+
+    pub fn wizards(&self) -> &Path {
+        &self.args.common.wizards.dir
+    }
+
+    /// The G-code files in the folder and below it, relative and sorted.
+    /// Hidden folders and symlinks are passed by; at most `LIMIT` are listed.
+    pub fn files(&self) -> Vec<String> {
+        const LIMIT: usize = 10_000;
+        const EXTENSIONS: [&str; 5] = ["ngc", "nc", "tap", "gcode", "cnc"];
+        let mut files = Vec::new();
+        let mut folders = vec![self.folder.clone()];
+        while let Some(folder) = folders.pop() {
+            let Ok(entries) = std::fs::read_dir(&folder) else { continue };
+            for entry in entries.flatten() {
+                let (path, Ok(kind)) = (entry.path(), entry.file_type()) else { continue };
+                if kind.is_dir() && !entry.file_name().to_string_lossy().starts_with('.') {
+                    folders.push(path);
+                } else if kind.is_file()
+                    && path.extension().is_some_and(|e| EXTENSIONS.iter().any(|x| e.eq_ignore_ascii_case(x)))
+                {
+                    files.push(slashed(path.strip_prefix(&self.folder).unwrap_or(&path)));
+                    if files.len() == LIMIT {
+                        folders.clear();
+                        break;
+                    }
+                }
+            }
+        }
+        files.sort();
+        files
+    }
+
+    /// The worker: makes a snapshot whenever one is asked for, forever.
+    fn work(&self) {
+        loop {
+            let (version, program) = {
+                let mut state = self.lock();
+                while !state.pending {
+                    state = self.wake.wait(state).unwrap_or_else(|p| p.into_inner());
+                }
+                state.pending = false;
+                (state.version, state.program.clone())
+            };
+            self.notices.send_replace(Notice::Busy(version));
+            let started = Instant::now();
+            let made = make(&self.args, &program);
+            let snapshot = snapshot(version, &program, made, started.elapsed().as_millis() as u64);
+            *self.latest.lock().unwrap_or_else(|p| p.into_inner()) = Arc::new(snapshot);
+            self.notices.send_replace(Notice::Ready(version));
+        }
+    }
+}
+
+fn slashed(path: &Path) -> String {
+    path.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/")
+}
+
+fn read(file: &Path) -> Result<String, String> {
+    std::fs::read_to_string(file).map_err(|err| format!("cannot read {}: {err}", file.display()))
+}
+
+/// Writes through a temporary file in the same folder, renamed over the file:
+/// never half-written. The file keeps its permissions.
+fn write_atomically(file: &Path, text: &[u8]) -> Result<(), String> {
+    let failed = |err: io::Error| format!("cannot write {}: {err}", file.display());
+    let folder = file.parent().unwrap_or(Path::new("."));
+    let mut temp = tempfile::NamedTempFile::new_in(folder).map_err(failed)?;
+    temp.write_all(text).and_then(|()| temp.as_file().sync_all()).map_err(failed)?;
+    if let Ok(metadata) = std::fs::metadata(file) {
+        temp.as_file().set_permissions(metadata.permissions()).map_err(failed)?;
+    }
+    temp.persist(file).map_err(|err| failed(err.error))?;
+    Ok(())
+}
+
+/// What a translation, check and simulation of a program made.
+#[derive(Default)]
+struct Made {
+    output: String,
+    source_lines: Vec<u32>,
+    /// The translator's diagnostics and the checks', in program order.
+    findings: Vec<(Option<Rule>, Diagnostic)>,
+    /// Problems with no place in the program (the config, the stock).
+    problems: Vec<String>,
+    field: Option<HeightField>,
+    units: &'static str,
+    pieces: Vec<Piece>,
+    /// The cell pieces were made within.
+    cell: f64,
+}
+
+/// Translates, checks and simulates `program` on the machine `args` describe.
+fn make(args: &ViewArgs, program: &Program) -> Made {
+    let dir = program.file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
+    let input = Input::Text { name: program.name.clone(), dir, text: program.text.clone() };
+    let mut made = Made::default();
+    let config = match load_config(&args.common, &input, false) {
+        Ok(config) => config,
+        Err(message) => {
+            made.problems.push(message.trim_end().to_string());
+            return made;
+        }
+    };
+    made.units = config.units.abbreviation();
+    let mut wizards = args.common.wizards.runtime(&config);
+    // Without a size, the stock is where the program cuts: one pass to find it (as `ger check`).
+    let stock = Stock::from_config(&config).or_else(|| {
+        let (_, cut, path_box) = bounds(&input, &config, &mut wizards, true);
+        path_box.map(|_| cut.stock(config.stock_margin()))
+    });
+    made.cell = stock.map_or(1.0, |stock| args.resolution.unwrap_or(view_cell(&stock)));
+    let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), None, &config) {
+        Ok(sim) => Some(Checker::new(&config, sim, &[])),
+        Err(message) => {
+            made.problems.push(message.trim_end().to_string());
+            None
+        }
+    });
+    let output = &mut made.output;
+    output.push_str(&preamble(&program.name, config.units));
+    made.source_lines = vec![0; output.lines().count()];
+    let emitter = Emitter::new(config.units.decimals(), true);
+    let mut walker = Walker::new();
+    walk_events(&input, &config, &mut wizards, None, |event| {
+        match event {
+            Event::Statement(statement) => {
+                emitter.write(output, &statement);
+                output.push('\n');
+                let line = made.source_lines.len() as u32;
+                made.source_lines.push(outermost_line(&statement));
+                if let Some(Step::Move(m)) = walker.step(&statement) {
+                    pieces::split(&m, line, made.cell, &mut made.pieces);
+                }
+                if let Some(checker) = &mut checker {
+                    checker.statement(&statement);
+                }
+            }
+            Event::Diagnostic(diagnostic) => match &mut checker {
+                Some(checker) => checker.translator(diagnostic),
+                None => made.findings.push((None, diagnostic)),
+            },
+        }
+        true
+    });
+    if let Some(checker) = checker {
+        let (verdict, field) = checker.finish_with_part();
+        made.findings = verdict.findings.into_iter().map(|f| (f.rule, f.diagnostic)).collect();
+        let failed_before_moving = made.pieces.is_empty() && made.findings.iter().any(|(_, d)| d.is_error());
+        made.field = (!failed_before_moving).then_some(field);
+    }
+    made
+}
+
+/// The default cell: the stock's longer side in `CELLS`.
+fn view_cell(stock: &Stock) -> f64 {
+    let size = stock.size();
+    size[0].max(size[1]) / CELLS
+}
+
+/// The program line a statement comes from: its own, or its outermost call's.
+fn outermost_line(statement: &Statement) -> u32 {
+    let mut line = statement.span.line;
+    let mut next = statement.origin.as_deref();
+    while let Some(origin) = next {
+        line = origin.call.line;
+        next = origin.parent.as_deref();
+    }
+    line
+}
+
+#[derive(Serialize)]
+struct Body<'a> {
+    file: &'a str,
+    source: &'a str,
+    saved: bool,
+    conflict: bool,
+    read_only: bool,
+    output: Output<'a>,
+    diagnostics: Vec<JsonDiagnostic>,
+    part: Option<Part>,
+    path: PathSummary,
+    elapsed_ms: u64,
+}
+
+#[derive(Serialize)]
+struct Output<'a> {
+    text: &'a str,
+    source_lines: &'a [u32],
+}
+
+#[derive(Serialize)]
+struct JsonDiagnostic {
+    severity: &'static str,
+    message: String,
+    help: Option<String>,
+    line: u32,
+    column: u32,
+    end_line: u32,
+    end_column: u32,
+    call_chain: Vec<String>,
+    check: Option<&'static str>,
+}
+
+#[derive(Serialize)]
+struct Part {
+    nx: usize,
+    ny: usize,
+    x0: f64,
+    y0: f64,
+    cell_x: f64,
+    cell_y: f64,
+    top: f64,
+    bottom: f64,
+    units: &'static str,
+}
+
+#[derive(Serialize)]
+struct PathSummary {
+    pieces: usize,
+    total: usize,
+    decimated: bool,
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+/// The snapshot of what `make` made: JSON and binary, as sent.
+fn snapshot(version: u64, program: &Program, made: Made, elapsed_ms: u64) -> Snapshot {
+    let text = &*program.text;
+    let columns = Columns::new(text);
+    let mut diagnostics: Vec<JsonDiagnostic> = made
+        .problems
+        .into_iter()
+        .map(|message| JsonDiagnostic {
+            severity: "error",
+            message,
+            help: None,
+            line: 0,
+            column: 0,
+            end_line: 0,
+            end_column: 0,
+            call_chain: Vec::new(),
+            check: None,
+        })
+        .collect();
+    diagnostics.extend(made.findings.iter().map(|(rule, d)| diagnostic(*rule, d, &columns)));
+    let total = made.pieces.len();
+    let (mut min, mut max) = ([f32::MAX; 3], [f32::MIN; 3]);
+    for piece in &made.pieces {
+        for i in 0..3 {
+            min[i] = min[i].min(piece.from[i]).min(piece.to[i]);
+            max[i] = max[i].max(piece.from[i]).max(piece.to[i]);
+        }
+    }
+    if total == 0 {
+        (min, max) = ([0.0; 3], [0.0; 3]);
+    }
+    let sent = if total > MAX_PIECES { pieces::decimate(&made.pieces, made.cell) } else { made.pieces };
+    let mut path = Vec::with_capacity(sent.len() * 32);
+    for piece in &sent {
+        for v in piece.from.iter().chain(&piece.to) {
+            path.extend_from_slice(&v.to_le_bytes());
+        }
+        path.extend_from_slice(&piece.line.to_le_bytes());
+        path.extend_from_slice(&(piece.kind as u32).to_le_bytes());
+    }
+    let mut heights = Vec::new();
+    let part = made.field.as_ref().map(|field| {
+        heights.reserve(field.nx * field.ny * 4);
+        for j in 0..field.ny {
+            for i in 0..field.nx {
+                heights.extend_from_slice(&(field.get(i, j) as f32).to_le_bytes());
+            }
+        }
+        Part {
+            nx: field.nx,
+            ny: field.ny,
+            x0: field.stock.min[0],
+            y0: field.stock.min[1],
+            cell_x: field.cell,
+            cell_y: field.cell_y(),
+            top: field.top(),
+            bottom: field.bottom(),
+            units: made.units,
+        }
+    });
+    let body = Body {
+        file: &program.name,
+        source: text,
+        saved: program.saved(),
+        conflict: program.conflict,
+        read_only: text.lines().count() > READ_ONLY_LINES,
+        output: Output { text: &made.output, source_lines: &made.source_lines },
+        diagnostics,
+        part,
+        path: PathSummary { pieces: sent.len(), total, decimated: sent.len() < total, min, max },
+        elapsed_ms,
+    };
+    let json = serde_json::to_string(&body).expect("the snapshot serialises: no maps, no non-string keys");
+    Snapshot { version, rest: Bytes::from(json).slice(1..), heights: Bytes::from(heights), path: Bytes::from(path) }
+}
+
+fn diagnostic(rule: Option<Rule>, d: &Diagnostic, columns: &Columns) -> JsonDiagnostic {
+    let Span { line, col, len } = d.span;
+    let mut call_chain = Vec::new();
+    let mut next = d.origin.as_deref();
+    while let Some(origin) = next {
+        call_chain.push(format!("{} at line {}", origin.what, origin.call.line));
+        next = origin.parent.as_deref();
+    }
+    JsonDiagnostic {
+        severity: match d.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        },
+        message: d.message.clone(),
+        help: d.help.clone(),
+        line,
+        column: columns.utf16(line, col),
+        end_line: line,
+        end_column: columns.utf16(line, col + len.max(1)),
+        call_chain,
+        check: rule.map(Rule::name),
+    }
+}
+
+/// Byte columns to the page's: JavaScript counts UTF-16 units. Only a text
+/// with non-ASCII characters needs its lines found.
+struct Columns<'a> {
+    text: &'a str,
+    starts: Option<Vec<usize>>,
+}
+
+impl<'a> Columns<'a> {
+    fn new(text: &'a str) -> Columns<'a> {
+        let starts = (!text.is_ascii())
+            .then(|| std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect());
+        Columns { text, starts }
+    }
+
+    /// The 1-based UTF-16 column of 1-based byte column `col` on 1-based `line`.
+    fn utf16(&self, line: u32, col: u32) -> u32 {
+        let Some(starts) = &self.starts else { return col };
+        let Some(&start) = starts.get((line as usize).wrapping_sub(1)) else { return col };
+        let end = self.text[start..].find('\n').map_or(self.text.len(), |n| start + n);
+        let line_text = &self.text[start..end];
+        let mut byte = (col as usize).saturating_sub(1).min(line_text.len());
+        while !line_text.is_char_boundary(byte) {
+            byte -= 1;
+        }
+        line_text[..byte].encode_utf16().count() as u32 + 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn columns_count_utf16_units_on_non_ascii_lines() {
+        let ascii = Columns::new("G00 X1\nG01 Y2\n");
+        assert_eq!(ascii.utf16(2, 5), 5);
+        // "Ø" is two bytes and one UTF-16 unit; "𝕏" four bytes and two units.
+        let text = "(Ø6)\n(𝕏) G07\n";
+        let columns = Columns::new(text);
+        assert_eq!(columns.utf16(1, 1), 1);
+        assert_eq!(columns.utf16(1, 4), 3);
+        assert_eq!(columns.utf16(2, 8), 6);
+        assert_eq!(columns.utf16(9, 3), 3);
+    }
+
+    #[test]
+    fn statements_from_calls_belong_to_the_outermost_call() {
+        use crate::diag::Origin;
+        // A wizard called at line 3 of subprogram O200, which the program calls at line 12.
+        let subprogram = Arc::new(Origin { what: "O200".into(), call: Span::new(12, 1, 4), parent: None });
+        let wizard = Arc::new(Origin { what: "Pocket".into(), call: Span::new(3, 1, 6), parent: Some(subprogram) });
+        let mut statement = Statement::new(crate::statement::Kind::End, Span::new(3, 1, 6));
+        assert_eq!(outermost_line(&statement), 3);
+        statement.origin = Some(wizard);
+        assert_eq!(outermost_line(&statement), 12);
+    }
+}

@@ -1,0 +1,132 @@
+//! The browser test of `ger view`: the real server on a copy of
+//! `examples/pocket.ngc`, and a real headless Chromium driving the page
+//! (`tests/e2e/view.mjs`, with playwright-core from `tests/e2e/package-lock.json`).
+//!
+//! It needs node, npm and Chromium (`/usr/bin/chromium`, or `GER_CHROMIUM`).
+//! Without them it fails, saying what is missing; outside CI (no `CI` in the
+//! environment) `GER_SKIP_BROWSER=1` turns that into a loud skip.
+//! `UPDATE_SCREENSHOT=1` writes the screenshot to `docs/view.png`, the one the
+//! README shows.
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
+
+/// Kills the server however the test ends.
+struct Server(Child);
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn runs(program: &str, arg: &str) -> bool {
+    Command::new(program).arg(arg).stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
+}
+
+/// What the test needs and this machine lacks, if anything.
+fn missing(chromium: &Path) -> Vec<String> {
+    let mut missing = Vec::new();
+    if !chromium.is_file() {
+        missing.push(format!("Chromium at {}", chromium.display()));
+    }
+    for tool in ["node", "npm"] {
+        if !runs(tool, "--version") {
+            missing.push(tool.to_string());
+        }
+    }
+    missing
+}
+
+#[test]
+fn the_page_in_chromium() {
+    let chromium = std::env::var_os("GER_CHROMIUM").map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
+    let missing = missing(&chromium);
+    if !missing.is_empty() {
+        let what = missing.join(", ");
+        let skip = std::env::var("GER_SKIP_BROWSER").is_ok_and(|v| v == "1");
+        if skip && std::env::var_os("CI").is_none() {
+            // Straight to stderr: the test harness captures `eprintln!` of a passing test.
+            let _ = writeln!(
+                std::io::stderr(),
+                "\n**********\n*** SKIPPED: the browser test of `ger view` (no {what}; GER_SKIP_BROWSER=1)\n**********\n"
+            );
+            return;
+        }
+        panic!(
+            "the browser test of `ger view` needs {what}: install them (Debian: apt-get install chromium nodejs npm), \
+             or, outside CI, set GER_SKIP_BROWSER=1 to skip this test"
+        );
+    }
+
+    let e2e = root().join("tests/e2e");
+    if !e2e.join("node_modules/playwright-core").is_dir() {
+        let status = Command::new("npm")
+            .args(["ci", "--no-audit", "--no-fund"])
+            .current_dir(&e2e)
+            .status()
+            .expect("npm could not be started");
+        assert!(status.success(), "`npm ci` in tests/e2e failed: {status}");
+    }
+
+    // The server edits and saves its program: give it a copy.
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("pocket.ngc");
+    std::fs::copy(root().join("examples/pocket.ngc"), &program).unwrap();
+    std::fs::copy(root().join("examples/ger.toml"), dir.path().join("ger.toml")).unwrap();
+
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .arg("view")
+        .arg(&program)
+        .arg("--wizards")
+        .arg(root().join("wizards"))
+        .args(["--port", "0"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("ger view could not be started");
+    let stdout = child.stdout.take().unwrap();
+    let server = Server(child);
+
+    // The first line names the page; the rest of stdout is drained so the
+    // server never blocks on a full pipe.
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let mut reader = BufReader::new(stdout);
+        let mut line = String::new();
+        let _ = reader.read_line(&mut line);
+        let _ = tx.send(line);
+        let _ = std::io::copy(&mut reader, &mut std::io::sink());
+    });
+    let first = rx.recv_timeout(Duration::from_secs(60)).expect("ger view printed nothing in 60 s");
+    let url = first
+        .trim()
+        .strip_prefix("ger view: ")
+        .unwrap_or_else(|| panic!("ger view's first line is not `ger view: URL`: {first:?}"))
+        .to_string();
+
+    let screenshot = if std::env::var("UPDATE_SCREENSHOT").is_ok_and(|v| v == "1") {
+        root().join("docs/view.png")
+    } else {
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join("view.png")
+    };
+    let status = Command::new("node")
+        .arg("view.mjs")
+        .arg(&url)
+        .arg(&screenshot)
+        .arg(&program)
+        .current_dir(&e2e)
+        .env("GER_CHROMIUM", &chromium)
+        .status()
+        .expect("node could not be started");
+    drop(server);
+    assert!(status.success(), "the browser test failed (its output is above): {status}");
+    assert!(screenshot.is_file(), "no screenshot at {}", screenshot.display());
+}
