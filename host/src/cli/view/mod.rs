@@ -31,6 +31,9 @@ pub(crate) struct ViewArgs {
     /// the stock's longer side].
     #[arg(long, value_name = "LENGTH", value_parser = positive)]
     resolution: Option<f64>,
+    /// MiB the simulation's height field may take [default: the config's, or 2048].
+    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..))]
+    memory_limit: Option<u64>,
 }
 
 pub(crate) fn main(args: ViewArgs) -> Result<i32, String> {

@@ -373,7 +373,7 @@ fn make(args: &ViewArgs, program: &Program) -> Made {
         path_box.map(|_| cut.stock(config.stock_margin()))
     });
     made.cell = stock.map_or(1.0, |stock| args.resolution.unwrap_or(view_cell(&stock)));
-    let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), None, &config) {
+    let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), args.memory_limit, &config) {
         Ok(sim) => Some(Checker::new(&config, sim, &[])),
         Err(message) => {
             made.problems.push(message.trim_end().to_string());
