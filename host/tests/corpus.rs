@@ -7,6 +7,8 @@
 //! table, to review with `git diff`) and when fewer than 90% of the mill files
 //! without macro programming translate.
 
+mod support;
+
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -114,8 +116,7 @@ fn the_corpus_translates_or_is_refused_cleanly() {
     let corpus = repository.join("../shared/corpus");
     if !corpus.join("INDEX.tsv").exists() {
         let message = format!("the corpus is not at {}: the corpus test did NOT run", corpus.display());
-        assert!(std::env::var_os("CI").is_none(), "{message}");
-        eprintln!("warning: {message}");
+        support::peer_missing(&message);
         return;
     }
     // A machine with a full tool table: the corpus's programs name tools 1-20.

@@ -17,6 +17,8 @@
 //! `linuxcnc-uspace`; where it is not installed the second test says so and
 //! passes, except under CI (the `CI` variable), where it fails.
 
+mod support;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -82,8 +84,7 @@ fn rs274_rejects_every_rewrite_with_linuxcncs_message() {
     if Command::new("rs274").arg("-h").output().is_err() {
         let message = "rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not installed: \
                        the rewrites of LinuxCNC's reject suite were NOT checked against it";
-        assert!(std::env::var_os("CI").is_none(), "{message}");
-        eprintln!("warning: {message}");
+        support::peer_missing(message);
         return;
     }
     let programs = programs();

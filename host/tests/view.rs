@@ -3,12 +3,14 @@
 //! (`tests/e2e/view.mjs`, with playwright-core from `tests/e2e/package-lock.json`).
 //!
 //! It needs node, npm and Chromium (`/usr/bin/chromium`, or `GER_CHROMIUM`).
-//! Without them it fails, saying what is missing; outside CI (no `CI` in the
-//! environment) `GER_SKIP_BROWSER=1` turns that into a loud skip.
+//! Without them it says loudly that it did not run, and under CI it fails
+//! (`support::peer_missing`).
 //! `UPDATE_SCREENSHOT=1` writes the screenshot to `docs/view.png`, the one the
 //! README shows.
 
-use std::io::{BufRead, BufReader, Write};
+mod support;
+
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
@@ -51,20 +53,11 @@ fn the_page_in_chromium() {
     let chromium = std::env::var_os("GER_CHROMIUM").map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
     let missing = missing(&chromium);
     if !missing.is_empty() {
-        let what = missing.join(", ");
-        let skip = std::env::var("GER_SKIP_BROWSER").is_ok_and(|v| v == "1");
-        if skip && std::env::var_os("CI").is_none() {
-            // Straight to stderr: the test harness captures `eprintln!` of a passing test.
-            let _ = writeln!(
-                std::io::stderr(),
-                "\n**********\n*** SKIPPED: the browser test of `ger view` (no {what}; GER_SKIP_BROWSER=1)\n**********\n"
-            );
-            return;
-        }
-        panic!(
-            "the browser test of `ger view` needs {what}: install them (Debian: apt-get install chromium nodejs npm), \
-             or, outside CI, set GER_SKIP_BROWSER=1 to skip this test"
-        );
+        support::peer_missing(&format!(
+            "the browser test of `ger view` needs {} (Debian: apt-get install chromium nodejs npm): it did NOT run",
+            missing.join(", ")
+        ));
+        return;
     }
 
     let e2e = root().join("tests/e2e");
