@@ -56,7 +56,7 @@ struct OpenComment {
 }
 
 pub struct Lexer<R> {
-    reader: R,
+    lines: Lines<R>,
     raw: Vec<u8>,
     line_no: u32,
     /// Tokens of the current line, handed out front to back.
@@ -65,6 +65,65 @@ pub struct Lexer<R> {
     open_comment: Option<OpenComment>,
     done: bool,
     lenient: bool,
+}
+
+/// The longest line read: 1 MiB, far beyond any real program's.
+pub const MAX_LINE: usize = 1 << 20;
+
+/// A program's lines, as the lexer numbers them and diagnostics quote them:
+/// a line ends at LF, CRLF or a lone CR (files saved on old Macs), as in a
+/// text editor. A line longer than [`MAX_LINE`] is cut there, so one endless
+/// line cannot take all memory.
+pub struct Lines<R> {
+    reader: R,
+    /// The last line ended with CR: an LF right after it belongs to it.
+    after_cr: bool,
+}
+
+impl<R: BufRead> Lines<R> {
+    pub fn new(reader: R) -> Lines<R> {
+        Lines { reader, after_cr: false }
+    }
+
+    /// Reads the next line, without its ending, into `line`: `None` at the
+    /// end of the text, `Some(false)` when the line was cut at [`MAX_LINE`].
+    pub fn read(&mut self, line: &mut Vec<u8>) -> std::io::Result<Option<bool>> {
+        line.clear();
+        let mut complete = true;
+        let mut any = false;
+        loop {
+            let buffer = match self.reader.fill_buf() {
+                Ok(buffer) => buffer,
+                Err(err) if err.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(err) => return Err(err),
+            };
+            if buffer.is_empty() {
+                break;
+            }
+            if std::mem::take(&mut self.after_cr) && buffer[0] == b'\n' {
+                self.reader.consume(1);
+                continue;
+            }
+            any = true;
+            let end = buffer.iter().position(|b| matches!(b, b'\n' | b'\r'));
+            let take = end.unwrap_or(buffer.len());
+            let room = MAX_LINE.saturating_sub(line.len());
+            complete &= take <= room;
+            line.extend_from_slice(&buffer[..take.min(room)]);
+            match end {
+                Some(at) => {
+                    self.after_cr = buffer[at] == b'\r';
+                    self.reader.consume(at + 1);
+                    break;
+                }
+                None => {
+                    let n = buffer.len();
+                    self.reader.consume(n);
+                }
+            }
+        }
+        Ok(any.then_some(complete))
+    }
 }
 
 impl<R: BufRead> Lexer<R> {
@@ -78,7 +137,7 @@ impl<R: BufRead> Lexer<R> {
     /// statement at the `;`.
     pub fn in_dialect(reader: R, dialect: Dialect) -> Lexer<R> {
         Lexer {
-            reader,
+            lines: Lines::new(reader),
             raw: Vec::new(),
             line_no: 0,
             pending: Default::default(),
@@ -89,13 +148,14 @@ impl<R: BufRead> Lexer<R> {
     }
 
     fn read_line(&mut self) -> bool {
-        self.raw.clear();
-        match self.reader.read_until(b'\n', &mut self.raw) {
-            Ok(0) => false,
-            Ok(_) => {
+        match self.lines.read(&mut self.raw) {
+            Ok(None) => false,
+            Ok(Some(complete)) => {
                 self.line_no += 1;
-                while matches!(self.raw.last(), Some(b'\n' | b'\r')) {
-                    self.raw.pop();
+                if !complete {
+                    let message = format!("this line is longer than {} MiB: it is not read", MAX_LINE >> 20);
+                    self.push_diag(Diagnostic::error(Span::new(self.line_no, 1, 0), message));
+                    self.raw.clear();
                 }
                 true
             }
@@ -159,8 +219,13 @@ impl<R: BufRead> Lexer<R> {
 
         while pos < bytes.len() {
             let c = bytes[pos];
+            // Any white space separates, and leaves the line's start as it was:
+            // a lone CR (old Mac files), VT, a no-break space pasted from a page.
+            if let Some(space) = text[pos..].chars().next().filter(|ch| ch.is_whitespace()) {
+                pos += space.len_utf8();
+                continue;
+            }
             match c {
-                b' ' | b'\t' | b'\x0c' => pos += 1,
                 b';' if self.lenient && (first_on_line || !is_gcode(&text[pos + 1..])) => {
                     let comment = text[pos + 1..].trim().to_string();
                     self.push_token(TokenKind::Comment(comment), pos, bytes.len() - pos);
@@ -213,6 +278,14 @@ impl<R: BufRead> Lexer<R> {
                     self.push_token(TokenKind::BlockDelete, pos, 1);
                     pos += 1;
                     continue;
+                }
+                _ if number_len(&text[pos..]) > 0 => {
+                    let len = number_len(&text[pos..]);
+                    let message = format!("the number `{}` has no letter before it", &text[pos..pos + len]);
+                    let diagnostic = Diagnostic::error(self.span(pos, len), message)
+                        .with_help("a word is a letter and its number, e.g. X20; a wizard call's arguments follow its name on its line");
+                    self.push_diag(diagnostic);
+                    pos += len;
                 }
                 _ => {
                     let len = text[pos..].chars().next().map_or(1, char::len_utf8);
@@ -589,6 +662,30 @@ mod tests {
         // The strict dialect keeps the manual's rules.
         assert_eq!(tokens("X -0.25")[0], "1:1: error: `X` must be followed by a number");
         assert_eq!(tokens("\u{feff}%\nX1")[1], "2:1+2 X1");
+    }
+
+    #[test]
+    fn every_line_ending_and_white_space_is_read() {
+        // A lone CR ends a line (old Mac files), CRLF is one ending, and any
+        // Unicode white space separates words: these once made the lexer loop.
+        assert_eq!(
+            tokens("X1\rY2\r\nZ3\n"),
+            ["1:1+2 X1", "1:3+0 end", "2:1+2 Y2", "2:3+0 end", "3:1+2 Z3", "3:3+0 end"]
+        );
+        assert_eq!(
+            tokens("Pocket 1\u{a0}2\u{b}3 \u{2003}4"),
+            ["1:1+6 ident Pocket", "1:8+1 num 1", "1:11+1 num 2", "1:13+1 num 3", "1:18+1 num 4", "1:19+0 end"]
+        );
+        assert_eq!(tokens("  N10 X1")[0], "1:7+2 X1");
+        assert_eq!(tokens("20 3")[0], "1:1: error: the number `20` has no letter before it");
+    }
+
+    #[test]
+    fn an_endless_line_is_cut() {
+        let text = format!("X1 {}\nY2", "(c)".repeat(MAX_LINE / 3 + 10));
+        let got = tokens(&text);
+        assert!(got.iter().any(|t| t.starts_with("1:1: error: this line is longer than 1 MiB")), "{:?}", &got[..3]);
+        assert!(got.iter().any(|t| t == "2:1+2 Y2"));
     }
 
     #[test]

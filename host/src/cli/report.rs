@@ -85,22 +85,21 @@ impl Report {
     }
 }
 
-/// The text of the `wanted` lines (numbered from 1).
-fn read_lines(mut source: impl BufRead, wanted: &BTreeSet<u32>) -> HashMap<u32, String> {
+/// The text of the `wanted` lines (numbered from 1, as the lexer numbers them).
+fn read_lines(source: impl BufRead, wanted: &BTreeSet<u32>) -> HashMap<u32, String> {
     let mut found = HashMap::new();
     let Some(&last) = wanted.last() else {
         return found;
     };
+    let mut lines = crate::lex::Lines::new(source);
     let mut raw = Vec::new();
     for line_no in 1..=last {
-        raw.clear();
-        match source.read_until(b'\n', &mut raw) {
-            Ok(0) | Err(_) => break,
-            Ok(_) => {}
+        match lines.read(&mut raw) {
+            Ok(Some(_)) => {}
+            Ok(None) | Err(_) => break,
         }
         if wanted.contains(&line_no) {
-            let text = String::from_utf8_lossy(&raw);
-            found.insert(line_no, text.trim_end_matches(['\n', '\r']).to_string());
+            found.insert(line_no, String::from_utf8_lossy(&raw).into_owned());
         }
     }
     found
