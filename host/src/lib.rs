@@ -12,6 +12,7 @@ pub mod emit;
 pub mod expand;
 pub mod geom;
 pub mod lex;
+pub mod output;
 pub mod parse;
 pub mod passes;
 pub mod pulses;
