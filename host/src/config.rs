@@ -523,13 +523,38 @@ tip_angle = 90
     }
 
     #[test]
+    fn errors_point_at_the_key_in_its_own_table() {
+        let at = |text: &str| {
+            let Span { line, col, len } = Config::from_toml(text).unwrap_err().span;
+            (line, col, len)
+        };
+        // The second tool's diameter, not the first line that starts with `diameter`.
+        let two = "[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\n\n[[tools]]\nnumber = 2\nkind = \"drill\"\n  diameter = 0\n";
+        assert_eq!(at(two), (9, 3, 12));
+        // A dotted key, an inline table: the key itself.
+        assert_eq!(at("render.scale = 1e12\n"), (1, 8, 12));
+        assert_eq!(at("stock = { size = [0, 1, 1] }\n"), (1, 11, 16));
+        // The 21st [[tools]] header for a table over 20.
+        let many: String =
+            (1..=21).map(|n| format!("[[tools]]\nnumber = {n}\nkind = \"endmill\"\ndiameter = 1\n")).collect();
+        assert_eq!(at(&many).0, 81);
+    }
+
+    #[test]
     fn bad_stock_and_render_settings_are_errors() {
         for (text, line, words) in [
             ("[stock]\nsize = [1, 1, 1]\nmargin = 1\n", 3, "not both"),
-            ("[stock]\nsize = [1, 0, 1]\n", 2, "above zero"),
+            ("[stock]\nsize = [1, 0, 1]\n", 2, "from 0.00004 to 4000 in"),
             ("[stock]\norigin = [1, 0, 1]\n", 2, "needs a size"),
-            ("[stock]\nmargin = -1\n", 2, "zero or more"),
-            ("[render]\nscale = 0\n", 2, "above zero"),
+            ("[stock]\nmargin = -1\n", 2, "from 0 to 4000 in"),
+            ("[render]\nscale = 0\n", 2, "cells per in"),
+            ("[render]\nmemory_limit_mb = 0\n", 2, "from 1 to 1048576"),
+            ("units = \"mm\"\n[machine]\nm47_repeats = 1000000\n", 3, "from 0 to 1000"),
+            ("units = \"mm\"\n[machine]\nrapid_rate = 1e-300\n", 3, "from 1 to 1000000 mm/min"),
+            ("[machine]\ng30 = [0, 0, 1e300]\n", 2, "within ±4000 in"),
+            ("[check]\nplunge_fraction = 1e9\n", 2, "at most 10"),
+            ("[check]\nmin_arc_radius = 1e300\n", 2, "from 0 to 40 in"),
+            ("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nflute_length = 1e300\n", 5, "flute_length"),
             ("[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 1\ntip_angle = 180\n", 5, "tip_angle"),
         ] {
             let err = Config::from_toml(text).unwrap_err();
