@@ -300,8 +300,9 @@ impl Config {
             let message = format!("[stock] origin must be three coordinates within ±{length} {unit}");
             return Err(at(&key("stock", "origin"), message));
         }
-        if stock.margin.is_some_and(|m| !(0.0..=length).contains(&m)) {
-            return Err(at(&key("stock", "margin"), format!("[stock] margin must be from 0 to {length} {unit}")));
+        // A margin is what is left round a cut, not a block of its own: at most a tool's size.
+        if stock.margin.is_some_and(|m| !(0.0..=tool_size).contains(&m)) {
+            return Err(at(&key("stock", "margin"), format!("[stock] margin must be from 0 to {tool_size} {unit}")));
         }
         let (fewest, most) = (1.0 / length, 1.0 / smallest);
         if self.render.scale.is_some_and(|s| !(fewest..=most).contains(&s)) {
@@ -546,7 +547,7 @@ tip_angle = 90
             ("[stock]\nsize = [1, 1, 1]\nmargin = 1\n", 3, "not both"),
             ("[stock]\nsize = [1, 0, 1]\n", 2, "from 0.00004 to 4000 in"),
             ("[stock]\norigin = [1, 0, 1]\n", 2, "needs a size"),
-            ("[stock]\nmargin = -1\n", 2, "from 0 to 4000 in"),
+            ("[stock]\nmargin = -1\n", 2, "from 0 to 40 in"),
             ("[render]\nscale = 0\n", 2, "cells per in"),
             ("[render]\nmemory_limit_mb = 0\n", 2, "from 1 to 1048576"),
             ("units = \"mm\"\n[machine]\nm47_repeats = 1000000\n", 3, "from 0 to 1000"),

@@ -74,8 +74,17 @@ fn remove_on_signal() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     static INSTALLED: std::sync::Once = std::sync::Once::new();
     INSTALLED.call_once(|| {
+        // A signal ger was started ignoring (`nohup`, a shell's `&` without job
+        // control) must stay ignored: a handler would make it end ger.
+        let ignored = |signal| {
+            let mut action: libc::sigaction = unsafe { std::mem::zeroed() };
+            // SAFETY: a query only (no new action), into a value of the type it fills.
+            let queried = unsafe { libc::sigaction(signal, std::ptr::null(), &mut action) } == 0;
+            queried && action.sa_sigaction == libc::SIG_IGN
+        };
+        let wanted: Vec<_> = [SIGINT, SIGTERM, SIGHUP].into_iter().filter(|s| !ignored(*s)).collect();
         // Without the handler a signal still ends ger; only the temporary file would stay.
-        let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else { return };
+        let Ok(mut signals) = signal_hook::iterator::Signals::new(wanted) else { return };
         let _ = std::thread::Builder::new().name("ger signals".to_string()).spawn(move || {
             if let Some(signal) = signals.forever().next() {
                 // Held to the end: no commit can rename a file once this has started.

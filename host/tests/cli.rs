@@ -142,9 +142,9 @@ mod files {
     use std::ffi::CString;
     use std::io::Read;
     use std::os::unix::fs::{FileTypeExt, PermissionsExt};
-    use std::os::unix::process::ExitStatusExt;
+    use std::os::unix::process::{CommandExt, ExitStatusExt};
     use std::path::Path;
-    use std::process::{Command, Stdio};
+    use std::process::{Command, ExitStatus, Stdio};
     use std::time::{Duration, Instant};
 
     use super::{ger, text};
@@ -256,31 +256,55 @@ mod files {
         assert_eq!(names(dir.path()), ["bad.ngc", "p.ngc"]);
     }
 
-    #[test]
-    fn a_signal_during_a_render_removes_its_temporary_file() {
+    /// A folder with `long.ngc`, long enough to render that a signal comes
+    /// while the temporary file is there, and an old `out.png`.
+    fn long_render() -> tempfile::TempDir {
         let dir = folder();
-        // Long enough to simulate that the signal comes while the temporary file is there.
         let mut program = String::from("G00 Z1\nG01 F1000\n");
         for i in 0..400_000 {
             program += &format!("G01 X{} Y{} Z-0.5\n", i % 100, (i / 100) % 100);
         }
         std::fs::write(dir.path().join("long.ngc"), program).unwrap();
         std::fs::write(dir.path().join("out.png"), "old").unwrap();
+        dir
+    }
+
+    /// Starts the render of `long.ngc` (`prepare` runs in the child before ger) and
+    /// sends `signal` once its temporary file is there.
+    fn signalled_render(dir: &Path, signal: libc::c_int, prepare: fn() -> std::io::Result<()>) -> ExitStatus {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
+        command.current_dir(dir).args(["render", "long.ngc", "-o", "out.png", "--quiet"]);
+        // SAFETY: `prepare` only changes a signal's disposition, which is safe after fork.
+        unsafe { command.pre_exec(prepare) };
+        let mut child = command.stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+        let started = Instant::now();
+        while !names(dir).iter().any(|n| n.starts_with(".tmp")) {
+            assert!(started.elapsed() < Duration::from_secs(120), "no temporary file appeared");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
+        child.wait().unwrap()
+    }
+
+    #[test]
+    fn a_signal_ger_was_started_ignoring_stays_ignored() {
+        // As `nohup` or a shell's `&` leave it: the render goes on to the end.
+        let dir = long_render();
+        let status = signalled_render(dir.path(), libc::SIGINT, || {
+            // SAFETY: setting a disposition to SIG_IGN is async-signal-safe.
+            unsafe { libc::signal(libc::SIGINT, libc::SIG_IGN) };
+            Ok(())
+        });
+        assert!(status.success(), "{status:?}");
+        assert!(std::fs::read(dir.path().join("out.png")).unwrap().starts_with(b"\x89PNG"));
+        assert_eq!(names(dir.path()), ["bad.ngc", "long.ngc", "out.png", "p.ngc"]);
+    }
+
+    #[test]
+    fn a_signal_during_a_render_removes_its_temporary_file() {
+        let dir = long_render();
         for signal in [libc::SIGINT, libc::SIGTERM] {
-            let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
-                .current_dir(dir.path())
-                .args(["render", "long.ngc", "-o", "out.png", "--quiet"])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn()
-                .unwrap();
-            let started = Instant::now();
-            while !names(dir.path()).iter().any(|n| n.starts_with(".tmp")) {
-                assert!(started.elapsed() < Duration::from_secs(120), "no temporary file appeared");
-                std::thread::sleep(Duration::from_millis(20));
-            }
-            assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
-            let status = child.wait().unwrap();
+            let status = signalled_render(dir.path(), signal, || Ok(()));
             assert_eq!(status.signal(), Some(signal), "{status:?}: the render ended before the signal");
             assert_eq!(names(dir.path()), ["bad.ngc", "long.ngc", "out.png", "p.ngc"]);
             assert_eq!(std::fs::read_to_string(dir.path().join("out.png")).unwrap(), "old");

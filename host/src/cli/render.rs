@@ -328,11 +328,13 @@ pub(super) fn simulation(
     // A stock by margin is where the program goes: its coordinates may be anything.
     if !size.iter().all(|s| *s <= bounds.length) {
         let message = format!(
-            "the stock would be {} x {} x {} {unit}, around everything the program cuts: over {} {unit}, more than \
-             any machine travels; check the program's coordinates, or give [stock] size in ger.toml",
+            "the stock would be {} x {} x {} {unit}, everything the program cuts with a margin of {} {unit} all \
+             round: over {} {unit}, more than any machine travels; check the program's coordinates, or give \
+             [stock] size in ger.toml",
             label(size[0]),
             label(size[1]),
             label(size[2]),
+            label(config.stock_margin()),
             label(bounds.length),
         );
         return refuse(Culprit::Neither, message);
