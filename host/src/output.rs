@@ -59,6 +59,15 @@ fn resolve(path: &Path) -> io::Result<PathBuf> {
     Err(io::Error::other(format!("more than {MAX_LINKS} symbolic links")))
 }
 
+/// What is at `path` now, if anything.
+fn existing(path: &Path) -> io::Result<Option<Metadata>> {
+    match std::fs::metadata(path) {
+        Ok(metadata) => Ok(Some(metadata)),
+        Err(err) if err.kind() == io::ErrorKind::NotFound => Ok(None),
+        Err(err) => Err(err),
+    }
+}
+
 /// The temporary files that exist now, for the signal handler to remove.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
@@ -118,11 +127,7 @@ impl Replacement {
     /// tools that look at names, and its mode (or, for a new file, what the umask allows).
     pub fn new(path: &Path) -> io::Result<Replacement> {
         let target = resolve(path)?;
-        let old = match std::fs::metadata(&target) {
-            Ok(m) => Some(m),
-            Err(err) if err.kind() == io::ErrorKind::NotFound => None,
-            Err(err) => return Err(err),
-        };
+        let old = existing(&target)?;
         if kind(old.as_ref()) != Kind::Replace {
             return Err(io::Error::other("not a regular file"));
         }
@@ -189,7 +194,7 @@ impl Replacement {
         }
         // The rename itself reaches the disk with the folder; a file system that
         // cannot sync a folder has still renamed the file.
-        if let Ok(folder) = File::open(&folder) {
+        if let Ok(folder) = File::open(folder) {
             let _ = folder.sync_all();
         }
         Ok(())
@@ -214,7 +219,8 @@ impl Drop for Listed {
 
 /// Where an output goes.
 enum Sink {
-    Replace(BufWriter<Replacement>),
+    /// Boxed: the old file's metadata makes it large.
+    Replace(BufWriter<Box<Replacement>>),
     Direct(BufWriter<ReaderGone<Box<dyn Write + Send>>>),
     /// Direct, but only at the commit: until then in an unnamed file the system removes with the process.
     Withheld {
@@ -255,16 +261,13 @@ impl OutputFile {
             Box::new(io::stdout())
         } else {
             let target = resolve(path)?;
-            let metadata = match std::fs::metadata(&target) {
-                Ok(m) => Some(m),
-                Err(err) if err.kind() == io::ErrorKind::NotFound => None,
-                Err(err) => return Err(err),
-            };
+            let metadata = existing(&target)?;
             match kind(metadata.as_ref()) {
                 Kind::Folder => return Err(io::Error::other("it is a folder")),
                 Kind::Replace => {
                     let replacement = Replacement::of(target, metadata)?;
-                    return Ok(OutputFile { sink: Sink::Replace(BufWriter::with_capacity(1 << 16, replacement)) });
+                    let writer = BufWriter::with_capacity(1 << 16, Box::new(replacement));
+                    return Ok(OutputFile { sink: Sink::Replace(writer) });
                 }
                 // Opened now, so a FIFO's reader is waited for (as the shell's `>` does) before any work.
                 Kind::Direct => Box::new(std::fs::OpenOptions::new().write(true).open(&target)?),
