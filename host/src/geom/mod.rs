@@ -1,0 +1,94 @@
+//! Plane geometry shared by the passes: polar moves and arc centres here;
+//! curves given by control points (`spline`) and their approximation by arcs
+//! and lines (`fit`) in their own modules. Nothing here knows statements.
+
+pub mod fit;
+pub mod spline;
+
+/// The in-plane step of a polar move: `radius` along `angle` degrees,
+/// counter-clockwise from the plane's first axis.
+pub fn polar_step(radius: f64, angle_degrees: f64) -> (f64, f64) {
+    let (sin, cos) = angle_degrees.to_radians().sin_cos();
+    (radius * cos, radius * sin)
+}
+
+/// Why an R-form arc has no centre.
+#[derive(Debug, PartialEq)]
+pub enum RadiusArcError {
+    /// Start and end are the same point: a full circle needs I/J/K.
+    FullCircle,
+    /// The chord is longer than the diameter.
+    TooShort { chord: f64 },
+}
+
+/// The centre of the arc from `start` to `end` with signed radius `r`
+/// (R > 0 the short way, R < 0 the long way), turning counter-clockwise if
+/// `ccw`. `tolerance` lets a chord exceed the diameter by rounding error.
+pub fn centre_from_radius(
+    start: (f64, f64),
+    end: (f64, f64),
+    r: f64,
+    ccw: bool,
+    tolerance: f64,
+) -> Result<(f64, f64), RadiusArcError> {
+    let (dx, dy) = (end.0 - start.0, end.1 - start.1);
+    let chord = dx.hypot(dy);
+    if chord <= tolerance * 1e-3 {
+        return Err(RadiusArcError::FullCircle);
+    }
+    let half = chord / 2.0;
+    if half > r.abs() + tolerance {
+        return Err(RadiusArcError::TooShort { chord });
+    }
+    let height = (r * r - half * half).max(0.0).sqrt();
+    // Unit normal to the left of the chord.
+    let (nx, ny) = (-dy / chord, dx / chord);
+    // A short counter-clockwise arc has its centre on the chord's left.
+    let side = if ccw == (r > 0.0) { 1.0 } else { -1.0 };
+    let mid = (start.0 + dx / 2.0, start.1 + dy / 2.0);
+    Ok((mid.0 + side * height * nx, mid.1 + side * height * ny))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: (f64, f64), b: (f64, f64)) -> bool {
+        (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12
+    }
+
+    #[test]
+    fn polar_steps_turn_counter_clockwise_from_the_first_axis() {
+        assert!(close(polar_step(2.0, 0.0), (2.0, 0.0)));
+        assert!(close(polar_step(2.0, 90.0), (0.0, 2.0)));
+        let (x, y) = polar_step(1.0, 30.0);
+        assert!((x - 3f64.sqrt() / 2.0).abs() < 1e-12 && (y - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn radius_picks_the_short_or_long_arc_on_the_correct_side() {
+        // Quarter circle about the origin from (1,0) to (0,1).
+        let ccw_short = centre_from_radius((1.0, 0.0), (0.0, 1.0), 1.0, true, 1e-4).unwrap();
+        assert!(close(ccw_short, (0.0, 0.0)));
+        // The same points, clockwise the short way: centre at (1,1).
+        let cw_short = centre_from_radius((1.0, 0.0), (0.0, 1.0), 1.0, false, 1e-4).unwrap();
+        assert!(close(cw_short, (1.0, 1.0)));
+        // Long way round flips the side.
+        let ccw_long = centre_from_radius((1.0, 0.0), (0.0, 1.0), -1.0, true, 1e-4).unwrap();
+        assert!(close(ccw_long, (1.0, 1.0)));
+        let cw_long = centre_from_radius((1.0, 0.0), (0.0, 1.0), -1.0, false, 1e-4).unwrap();
+        assert!(close(cw_long, (0.0, 0.0)));
+    }
+
+    #[test]
+    fn radius_errors() {
+        assert_eq!(centre_from_radius((0.0, 0.0), (0.0, 0.0), 1.0, true, 1e-4), Err(RadiusArcError::FullCircle));
+        assert_eq!(
+            centre_from_radius((0.0, 0.0), (3.0, 0.0), 1.0, true, 1e-4),
+            Err(RadiusArcError::TooShort { chord: 3.0 })
+        );
+        // A half circle whose chord is the diameter plus rounding noise still works.
+        let centre = centre_from_radius((0.0, 0.0), (2.00001, 0.0), 1.0, true, 1e-4).unwrap();
+        assert!((centre.0 - 1.000005).abs() < 1e-9 && centre.1.abs() < 1e-9);
+    }
+}
