@@ -131,10 +131,7 @@ pub fn translate<'a, R: BufRead + 'a>(
     let stream =
         tapped(Box::new(Stage::new(stream, p02_offsets::Offsets::new(config.offsets.clone(), probe.clone()))), 2);
     let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
-    let stream = tapped(
-        Box::new(Stage::new(stream, p04_absolute::Absolute::new(config.units, config.machine.second_reference, probe))),
-        4,
-    );
+    let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config, probe))), 4);
     let stream = Box::new(Stage::new(stream, p05_cutter_comp::CutterComp::new(config)));
     if stage == LAST_STAGE {
         stream

@@ -4,15 +4,18 @@
 //! arc, R < 0 the long one); a full circle needs I/J/K; the end must lie on
 //! the circle. This pass also settles the feed: a feed move needs an F before
 //! it, F is written on the first feed move after it changes, and a statement
-//! that only sets F disappears.
+//! that only sets F disappears. The lenient dialect's canned cycles
+//! (`cycles.rs`) and splines (`splines.rs`) become plain moves here.
 
 use super::{Out, Pass};
+use crate::config::Config;
 use crate::diag::{Diagnostic, Span};
 use crate::geom::{centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
 use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Units, Value};
 
 mod cycles;
+mod splines;
 
 pub struct Absolute {
     units: Units,
@@ -30,23 +33,35 @@ pub struct Absolute {
     speed: Option<f64>,
     selected_tool: Option<u32>,
     cycles: cycles::CycleState,
+    splines: splines::SplineState,
 }
 
 impl Absolute {
-    pub fn new(units: Units, second_reference: [f64; 3], probe: Probe) -> Absolute {
+    pub fn new(config: &Config, probe: Probe) -> Absolute {
         Absolute {
-            units,
+            units: config.units,
             distance: Distance::Absolute,
             plane: Plane::XY,
             position: [0.0; 3],
             feed: None,
             feed_written: None,
             probe,
-            second_reference,
+            second_reference: config.machine.second_reference,
             speed: None,
             selected_tool: None,
             cycles: cycles::CycleState::default(),
+            splines: splines::SplineState::new(config),
         }
+    }
+
+    /// F for a feed move that starts here: the feed in force, if the output
+    /// has not said it yet.
+    fn feed_word(&mut self, span: Span) -> Option<Value> {
+        if self.feed == self.feed_written {
+            return None;
+        }
+        self.feed_written = self.feed;
+        self.feed.map(|value| Value { value, span })
     }
 
     fn absolute(&self, axis: usize, v: Value) -> Value {
@@ -146,18 +161,16 @@ impl Absolute {
                 motion.target.slot(axis).get_or_insert(Value { value: end[axis], span });
             }
         }
-        motion.feed = None;
-        if mode != MotionMode::Rapid && self.feed != self.feed_written {
-            self.feed_written = self.feed;
-            motion.feed = self.feed.map(|value| Value { value, span });
-        }
+        motion.feed = if mode == MotionMode::Rapid { None } else { self.feed_word(span) };
         self.position = end;
+        self.splines.series = None;
         Ok(true)
     }
 }
 
 impl Pass for Absolute {
     fn statement(&mut self, statement: Statement, out: &mut Out) {
+        self.close_nurbs_before(&statement, out);
         self.rewrite(statement, out);
         let mut probe = self.probe.borrow_mut();
         probe.position = self.position;
@@ -165,12 +178,27 @@ impl Pass for Absolute {
         probe.plane = self.plane;
         probe.feed = self.feed;
     }
+
+    fn finish(&mut self, out: &mut Out) {
+        self.unfinished_nurbs(out);
+    }
 }
 
 impl Absolute {
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
         if let Kind::Cycle(cycle) = &statement.kind {
             if let Err(diagnostic) = self.cycle(cycle, &statement, out) {
+                out.error(&statement, diagnostic);
+            }
+            return;
+        }
+        let drawn = match &statement.kind {
+            Kind::Spline(spline) => Some(self.spline(spline, &statement, out)),
+            Kind::NurbsEnd => Some(self.nurbs_end(&statement, out)),
+            _ => None,
+        };
+        if let Some(result) = drawn {
+            if let Err(diagnostic) = result {
                 out.error(&statement, diagnostic);
             }
             return;
@@ -268,11 +296,11 @@ impl Absolute {
         if !motion.moves() {
             return;
         }
-        if mode != MotionMode::Rapid && self.feed != self.feed_written {
-            self.feed_written = self.feed;
-            motion.feed = self.feed.map(|value| Value { value, span: statement.span });
+        if mode != MotionMode::Rapid {
+            motion.feed = self.feed_word(statement.span);
         }
         self.position = target;
+        self.splines.series = None;
         out.push(statement.with_kind(Kind::Motion(Box::new(motion))));
     }
 
