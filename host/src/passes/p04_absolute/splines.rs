@@ -276,3 +276,36 @@ impl Absolute {
 fn pair(axes: &Axes) -> Option<[f64; 2]> {
     axes.x.zip(axes.y).map(|(x, y)| [x.value, y.value])
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::config::Config;
+    use crate::passes::testing::run_with;
+    use crate::statement::{Dialect, MAX_NURBS_POINTS};
+
+    fn lenient(text: &str) -> Vec<String> {
+        run_with(text, &Config { dialect: Dialect::Lenient, ..Config::default() }, 4)
+    }
+
+    #[test]
+    fn a_nurbs_keeps_at_most_so_many_points() {
+        // The start is the first control point, so this many lines is one too many.
+        let points: String = (0..MAX_NURBS_POINTS).map(|i| format!("X{i} Y{} P1\n", i % 2)).collect();
+        let got = lenient(&format!("F10\nG5.2 {points}G5.3\nG01 X0"));
+        let line = MAX_NURBS_POINTS + 1;
+        assert_eq!(
+            got,
+            [
+                format!("{line}:1: error: a NURBS may have at most {MAX_NURBS_POINTS} control points"),
+                "G01 X0.0000 F10.0000".into()
+            ]
+        );
+    }
+
+    #[test]
+    fn a_cubic_on_its_chord_is_one_line_and_the_feed_is_written_once() {
+        // Control points at thirds of the chord: the curve is the chord.
+        let got = lenient("G05 I1 J0 P-1 Q0 X3 Y0 F20\nG5.1 I1 J1 X5 Y2");
+        assert_eq!(got, ["G01 X3.0000 F20.0000", "G01 X5.0000 Y2.0000"]);
+    }
+}
