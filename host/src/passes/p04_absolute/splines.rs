@@ -17,13 +17,15 @@
 //! What LinuxCNC does silently is an error here: a move inside a NURBS (it
 //! drops the NURBS), or a NURBS never ended.
 
-use super::Absolute;
+use super::{Absolute, Feed};
 use crate::config::Config;
 use crate::diag::Diagnostic;
 use crate::geom::fit::{approximate, Fit, FitError, Piece};
 use crate::geom::spline::Nurbs;
 use crate::passes::Out;
-use crate::statement::{Axes, Kind, Motion, MotionMode, Plane, Spline, SplineCode, Statement, Value, MAX_NURBS_POINTS};
+use crate::statement::{
+    Axes, FeedMode, Kind, Motion, MotionMode, Plane, Spline, SplineCode, Statement, Value, MAX_NURBS_POINTS,
+};
 
 /// The most moves one curve may become.
 const MAX_PIECES: usize = 100_000;
@@ -104,7 +106,7 @@ impl Absolute {
             }
             _ => Nurbs::bezier(&[start, first, end]),
         };
-        self.draw(&curve, end, statement, out)?;
+        self.draw(code, &curve, end, statement, out)?;
         if code == SplineCode::Cubic {
             let [p, q] = pair(&spline.second).expect("the parser requires P and Q on a G05");
             self.splines.series = Some([-p, -q]);
@@ -113,20 +115,35 @@ impl Absolute {
     }
 
     /// A curve needs the XY plane and a feed, as in LinuxCNC.
-    fn ready(&self, code: SplineCode, statement: &Statement) -> Result<(), Diagnostic> {
-        let code = code.code();
+    fn ready(&mut self, code: SplineCode, statement: &Statement) -> Result<(), Diagnostic> {
         if self.plane != Plane::XY {
+            let code = code.code();
             return Err(Diagnostic::error(
                 statement.span,
                 format!("splines must be in the XY plane: {code} draws in X and Y"),
             )
             .with_help(format!("select it with G17 before the {code}")));
         }
-        if self.feed.is_none() {
-            return Err(Diagnostic::error(statement.span, format!("{code} move before any feed rate (F)"))
-                .with_help(format!("give the feed on this line or before it, e.g. {code} ... F10")));
+        self.curve_feed(code, statement).map(|_| ())
+    }
+
+    /// The feed per minute a curve's moves run at: the one in force (or
+    /// `[machine] default_feed`). A feed per move (G93) or per revolution
+    /// (G95) would have to be shared out among the moves: refused.
+    fn curve_feed(&mut self, code: SplineCode, statement: &Statement) -> Result<f64, Diagnostic> {
+        let code = code.code();
+        if self.feed_mode != FeedMode::PerMinute {
+            return Err(Diagnostic::error(
+                statement.span,
+                format!("{code} is accepted only with feeds per minute (G94)"),
+            )
+            .with_help("its arcs and lines share one feed; write G94 and F in units per minute before it"));
         }
-        Ok(())
+        match self.feed_rate(MotionMode::Linear, None, statement.span) {
+            Ok(Feed::PerMinute(feed)) => Ok(feed),
+            _ => Err(Diagnostic::error(statement.span, format!("{code} move before any feed rate (F)"))
+                .with_help(format!("give the feed on this line or before it, e.g. {code} ... F10"))),
+        }
     }
 
     fn nurbs_point(&mut self, spline: &Spline, statement: &Statement) -> Result<(), Diagnostic> {
@@ -188,7 +205,7 @@ impl Absolute {
                     .with_help("give more control points, or a lower order with L (3 at least)"));
                 }
                 let [x, y, _] = points[points.len() - 1];
-                self.draw(&Nurbs::clamped(&points, order), [x, y], statement, out)
+                self.draw(SplineCode::Nurbs, &Nurbs::clamped(&points, order), [x, y], statement, out)
             }
         }
     }
@@ -228,7 +245,15 @@ impl Absolute {
     }
 
     /// Arcs and lines along `curve`, the last one ending exactly at `end`.
-    fn draw(&mut self, curve: &Nurbs, end: [f64; 2], statement: &Statement, out: &mut Out) -> Result<(), Diagnostic> {
+    fn draw(
+        &mut self,
+        code: SplineCode,
+        curve: &Nurbs,
+        end: [f64; 2],
+        statement: &Statement,
+        out: &mut Out,
+    ) -> Result<(), Diagnostic> {
+        let feed = self.curve_feed(code, statement)?;
         let (u, d) = (self.units.abbreviation(), self.units.decimals());
         let pieces = approximate(curve, &self.splines.fit).map_err(|err| match err {
             FitError::TooManyPieces => Diagnostic::error(
@@ -243,29 +268,48 @@ impl Absolute {
                 Diagnostic::error(statement.span, "this curve's coordinates are too large to compute")
             }
         })?;
-        let z = self.position[2];
         let last = pieces.len().saturating_sub(1);
         for (k, piece) in pieces.iter().enumerate() {
             let to = if k == last { end } else { piece.end() };
-            match *piece {
-                Piece::Line { .. } => self.move_to(MotionMode::Linear, [to[0], to[1], z], statement, out),
-                Piece::Arc { centre, ccw, .. } => self.arc_to(ccw, centre, to, statement, out),
-            }
+            let (mode, centre) = match *piece {
+                Piece::Line { .. } => (MotionMode::Linear, None),
+                Piece::Arc { centre, ccw: true, .. } => (MotionMode::ArcCcw, Some(centre)),
+                Piece::Arc { centre, ccw: false, .. } => (MotionMode::ArcCw, Some(centre)),
+            };
+            self.cut(mode, to, centre, feed, statement, out);
         }
         Ok(())
     }
 
-    /// An arc in the XY plane from the tool's position, written as pass 04
-    /// writes every arc: both X and Y, the centre by I and J from the start.
-    fn arc_to(&mut self, ccw: bool, centre: [f64; 2], end: [f64; 2], statement: &Statement, out: &mut Out) {
+    /// A line or an arc in the XY plane from the tool's position to `end`,
+    /// written as pass 04 writes every move: an arc with both X and Y and its
+    /// centre by I and J from the start; F where the output has not said it.
+    fn cut(
+        &mut self,
+        mode: MotionMode,
+        end: [f64; 2],
+        centre: Option<[f64; 2]>,
+        feed: f64,
+        statement: &Statement,
+        out: &mut Out,
+    ) {
+        if centre.is_none() && end == [self.position[0], self.position[1]] {
+            return;
+        }
         let at = |value: f64| Some(Value { value, span: statement.span });
-        let motion = Motion {
-            mode: Some(if ccw { MotionMode::ArcCcw } else { MotionMode::ArcCw }),
-            target: Axes { x: at(end[0]), y: at(end[1]), z: None },
-            centre: Axes { x: at(centre[0] - self.position[0]), y: at(centre[1] - self.position[1]), z: None },
-            radius: None,
-            feed: self.feed_word(statement.span),
-        };
+        let mut motion = Motion { mode: Some(mode), ..Motion::default() };
+        for axis in 0..2 {
+            if centre.is_some() || end[axis] != self.position[axis] {
+                *motion.target.slot(axis) = at(end[axis]);
+            }
+        }
+        if let Some(centre) = centre {
+            motion.centre = Axes { x: at(centre[0] - self.position[0]), y: at(centre[1] - self.position[1]), z: None };
+        }
+        if Some(feed) != self.feed_written {
+            self.feed_written = Some(feed);
+            motion.feed = at(feed);
+        }
         self.position[0] = end[0];
         self.position[1] = end[1];
         out.push(statement.with_kind(Kind::Motion(Box::new(motion))));
