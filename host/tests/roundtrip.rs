@@ -187,7 +187,7 @@ proptest! {
     /// as written, and translate to themselves.
     #[test]
     fn splines_translate_to_output_that_translates_to_itself(program in spline_program(), machine in machines()) {
-        let lenient = Config { dialect: ger::statement::Dialect::Lenient, ..machine.clone() };
+        let lenient = Config { dialect: ger::statement::Dialect::Lenient.into(), ..machine.clone() };
         let once = translated(&program, &lenient);
         let twice = translated(&once, &machine);
         prop_assert_eq!(without_line_numbers(&once), without_line_numbers(&twice), "program:\n{}", program);

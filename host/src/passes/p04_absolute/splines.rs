@@ -328,7 +328,7 @@ mod tests {
     use crate::statement::{Dialect, MAX_NURBS_POINTS};
 
     fn lenient(text: &str) -> Vec<String> {
-        run_with(text, &Config { dialect: Dialect::Lenient, ..Config::default() }, 4)
+        run_with(text, &Config { dialect: Dialect::Lenient.into(), ..Config::default() }, 4)
     }
 
     #[test]
