@@ -298,9 +298,9 @@ impl Absolute {
         }
         let at = |value: f64| Some(Value { value, span: statement.span });
         let mut motion = Motion { mode: Some(mode), ..Motion::default() };
-        for axis in 0..2 {
-            if centre.is_some() || end[axis] != self.position[axis] {
-                *motion.target.slot(axis) = at(end[axis]);
+        for (axis, &to) in end.iter().enumerate() {
+            if centre.is_some() || to != self.position[axis] {
+                *motion.target.slot(axis) = at(to);
             }
         }
         if let Some(centre) = centre {
