@@ -60,6 +60,9 @@ pub struct MachineSettings {
     /// The feed (machine units per minute) of a feed move before any F
     /// (lenient dialect): default none, so such a move is an error.
     pub default_feed: Option<f64>,
+    /// How far the arcs and lines a spline (lenient G5, G5.1, G5.2) becomes
+    /// may stray from it, in machine units: default 0.001 in or 0.02 mm.
+    pub spline_tolerance: Option<f64>,
 }
 
 impl Default for MachineSettings {
@@ -71,6 +74,7 @@ impl Default for MachineSettings {
             home: None,
             rapid_rate: None,
             default_feed: None,
+            spline_tolerance: None,
         }
     }
 }
@@ -447,6 +451,15 @@ impl Config {
             let message = format!("[machine] default_feed must be from {} to {fastest} {unit}/min", quoted(slowest));
             return Err(at(&key("machine", "default_feed"), message));
         }
+        let least = self.least_spline_tolerance();
+        if machine.spline_tolerance.is_some_and(|t| !(least..=tool_size).contains(&t)) {
+            let d = self.units.decimals();
+            let message = format!(
+                "[machine] spline_tolerance must be at least {least:.d$} {unit}, twice the output's resolution, \
+                 and at most {tool_size} {unit}"
+            );
+            return Err(at(&key("machine", "spline_tolerance"), message));
+        }
         if self.check.min_arc_radius.is_some_and(|r| !(0.0..=tool_size).contains(&r)) {
             let message = format!("[check] min_arc_radius must be from 0 to {tool_size} {unit}");
             return Err(at(&key("check", "min_arc_radius"), message));
@@ -480,6 +493,19 @@ impl Config {
             Units::Inch => 200.0,
             Units::Mm => 5000.0,
         })
+    }
+
+    /// How far a spline's arcs and lines may stray from it, in machine units.
+    pub fn spline_tolerance(&self) -> f64 {
+        self.machine.spline_tolerance.unwrap_or(match self.units {
+            Units::Inch => 0.001,
+            Units::Mm => 0.02,
+        })
+    }
+
+    /// The output rounds coordinates to its last decimal: a tolerance must leave room for that.
+    fn least_spline_tolerance(&self) -> f64 {
+        2.0 * 10f64.powi(-(self.units.decimals() as i32))
     }
 
     pub fn min_arc_radius(&self) -> f64 {
@@ -663,6 +689,9 @@ tip_angle = 90
             ("[check]\nplunge_fraction = 1e9\n", 2, "at most 10"),
             ("[check]\nmin_arc_radius = 1e300\n", 2, "from 0 to 40 in"),
             ("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nflute_length = 1e300\n", 5, "flute_length"),
+            ("[machine]\nspline_tolerance = 0.0001\n", 2, "at least 0.0002 in"),
+            ("units = \"mm\"\n[machine]\nspline_tolerance = -1\n", 3, "at least 0.002 mm"),
+            ("[machine]\nspline_tolerance = 1e300\n", 2, "at most 40 in"),
             ("[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 1\ntip_angle = 180\n", 5, "tip_angle"),
         ] {
             let err = Config::from_toml(text).unwrap_err();

@@ -22,6 +22,23 @@ impl Statement {
         Statement { kind, span, origin: None }
     }
 
+    /// Whether every number the statement holds is finite.
+    pub fn is_finite(&self) -> bool {
+        let axes = |axes: &Axes| (0..3).all(|axis| axes.get(axis).is_none_or(|v| v.value.is_finite()));
+        let value = |v: &Option<Value>| v.is_none_or(|v| v.value.is_finite());
+        let motion = |m: &Motion| axes(&m.target) && axes(&m.centre) && value(&m.radius) && value(&m.feed);
+        match &self.kind {
+            Kind::Motion(m) | Kind::MachineMove(m) => motion(m),
+            Kind::Offset { axes: a, .. } | Kind::SetWorkOffset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
+            Kind::Cycle(c) => axes(&c.target) && value(&c.r) && value(&c.q) && value(&c.p) && value(&c.feed),
+            Kind::Machine { s, .. } => s.is_none_or(f64::is_finite),
+            Kind::Dwell(v) | Kind::SpindleSpeed(v) => v.is_finite(),
+            Kind::Rotary(words) => words.iter().all(value),
+            Kind::PassThrough { words, .. } => words.iter().all(|(_, v)| v.is_finite()),
+            _ => true,
+        }
+    }
+
     /// The same origin, a new kind: for passes that rewrite a statement.
     pub fn with_kind(&self, kind: Kind) -> Statement {
         Statement { kind, span: self.span, origin: self.origin.clone() }
@@ -358,6 +375,51 @@ pub enum Retract {
     RPlane,
 }
 
+/// The lenient dialect's splines (LinuxCNC's), in the XY plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SplineCode {
+    /// G5: a cubic Bézier curve.
+    Cubic,
+    /// G5.1: a quadratic Bézier curve.
+    Quadratic,
+    /// G5.2: a NURBS control point (the curve is drawn at G5.3).
+    Nurbs,
+}
+
+impl SplineCode {
+    pub fn code(self) -> &'static str {
+        match self {
+            SplineCode::Cubic => "G05",
+            SplineCode::Quadratic => "G5.1",
+            SplineCode::Nurbs => "G5.2",
+        }
+    }
+}
+
+/// The most control points one NURBS may have: they are kept until its G5.3.
+pub const MAX_NURBS_POINTS: usize = 10_000;
+/// The highest order a NURBS may have (LinuxCNC sets no limit).
+pub const MAX_NURBS_ORDER: u32 = 16;
+
+/// A spline statement (lenient dialect), with LinuxCNC's words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spline {
+    /// `None`: a line of X Y P with no code, which pass 00 makes the next
+    /// control point of the NURBS in force.
+    pub code: Option<SplineCode>,
+    /// X, Y: the end (G5, G5.1), or a control point (G5.2). Never Z.
+    pub target: Axes,
+    /// I, J (as x, y): the first control point, relative to the start (G5, G5.1).
+    pub first: Axes,
+    /// P, Q (as x, y): G5's second control point, relative to the end.
+    pub second: Axes,
+    /// P: a NURBS control point's weight (G5.2).
+    pub weight: Option<Value>,
+    /// L: the NURBS's order (G5.2).
+    pub order: Option<u32>,
+    pub feed: Option<Value>,
+}
+
 /// G28 goes to machine zero, G30 to the configured second reference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Reference {
@@ -470,6 +532,10 @@ pub enum Kind {
     ArcCentres(Distance),
     /// G28.1 / G30.1: the reference point becomes where the tool is.
     SetReference(Reference),
+    /// G5, G5.1, G5.2 and its control points.
+    Spline(Box<Spline>),
+    /// G5.3: the end of a NURBS, which is drawn here.
+    NurbsEnd,
     /// G10 L2 (`relative` false): entry `entry` of the work-offsets table (0:
     /// the one in force) is set to the given machine coordinates; G10 L20
     /// (`relative`): set so that the current position reads as given.

@@ -2,8 +2,8 @@
 //! this pass adds the current PRZ to every absolute coordinate, so the output
 //! is relative to machine zero, and drops the offset statements. In the
 //! lenient dialect it also takes G10 L2/L20 (which rewrite the work-offsets
-//! table), and puts canned cycles and G28/G30's intermediate points in
-//! machine coordinates; G53 moves are in them already.
+//! table), and puts canned cycles, splines and G28/G30's intermediate points
+//! in machine coordinates; G53 moves are in them already.
 //!
 //! None of these codes may be used in polar (G16), incremental (G91) or
 //! cutter comp (G41/G42) mode. G92 and G10 L20 need the tool's position: they
@@ -14,7 +14,7 @@ use super::{Out, Pass};
 use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
 use crate::state::Probe;
-use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Statement};
+use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Plane, Statement};
 
 pub struct Offsets {
     /// G54..G59.3 and the extended offsets, in machine coordinates.
@@ -32,6 +32,8 @@ pub struct Offsets {
     absolute_centres: bool,
     /// The lenient dialect changes program zero in G91, as LinuxCNC does.
     dialect: Dialect,
+    /// Canned cycles drill along the plane's normal.
+    plane: Plane,
     distance: Distance,
     polar: bool,
     comp: bool,
@@ -48,6 +50,7 @@ impl Offsets {
             kept_g92: [0.0; 3],
             absolute_centres: false,
             dialect,
+            plane: Plane::XY,
             distance: Distance::Absolute,
             polar: false,
             comp: false,
@@ -153,11 +156,12 @@ impl Pass for Offsets {
                     motion.centre = motion.centre.map(|axis, v| v + self.prz[axis]);
                 }
             }
+            Kind::Plane(plane) => self.plane = *plane,
             Kind::Cycle(cycle) => {
                 cycle.target = self.to_machine(cycle.target);
-                // R is a Z level like the bottom, Z.
+                // R is a level along the hole, like its bottom: Z in G17, Y in G18, X in G19.
                 if let (Distance::Absolute, Some(r)) = (self.distance, &mut cycle.r) {
-                    r.value += self.prz[2];
+                    r.value += self.prz[self.plane.axes().2];
                 }
             }
             Kind::Home { reference, via } => {
@@ -168,6 +172,13 @@ impl Pass for Offsets {
                 *via = self.to_machine(*via);
             }
             Kind::MachineMove(_) if self.comp => return out.error(&statement, comp_refuses("G53")),
+            // As in LinuxCNC ("Cannot convert spline with cutter radius compensation").
+            Kind::Spline(spline) if self.comp => {
+                let code = spline.code.map_or("G5.2", |c| c.code());
+                return out.error(&statement, comp_refuses(code));
+            }
+            Kind::NurbsEnd if self.comp => return out.error(&statement, comp_refuses("G5.3")),
+            Kind::Spline(spline) => spline.target = self.to_machine(spline.target),
             _ => {}
         }
         out.push(statement);
