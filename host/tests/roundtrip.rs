@@ -89,7 +89,8 @@ fn statement() -> impl Strategy<Value = String> {
         1 => (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| format!("G52 X{x} Y{y} Z{z}")),
         1 => (coordinate(), coordinate()).prop_map(|(x, y)| format!("G92 X{x} Y{y}")),
         1 => (54u32..=59).prop_map(|n| format!("G{n}")),
-        1 => (coordinate(), 1u32..20).prop_map(|(z, h)| format!("G43 Z{z} H{h}")),
+        // G43's Z is a move in the mode in force: in G02 it would be an arc.
+        1 => (coordinate(), 1u32..20).prop_map(|(z, h)| format!("G00 G43 Z{z} H{h}")),
         1 => prop_oneof![Just("M03 S12000"), Just("M05"), Just("M08"), Just("M09"), Just("M06 T2"), Just("G49")]
             .prop_map(String::from),
         1 => (1u32..4).prop_map(|l| format!("M98 P7 L{l}")),
