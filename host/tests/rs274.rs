@@ -159,7 +159,8 @@ fn rs274_arcs_in_every_plane_and_feeds_in_their_unit() {
 
 #[test]
 fn rs274_feeds_per_revolution_and_synchronised_become_per_minute() {
-    // G95 F0.1 mm a turn at 500 rpm: 50 mm/min. G33 K1.5 at 500 rpm: 750 mm/min.
+    // G95 F0.1 mm a turn at 500 rpm: 50 mm/min. G33 K1.5 at 500 rpm: 750 mm/min,
+    // as rs274 prints them.
     let moves = canon(&[
         "N1     SET_SPINDLE_SPEED(0, 500.0000)",
         "N2     SET_FEED_MODE(0, 1)",
@@ -170,9 +171,15 @@ fn rs274_feeds_per_revolution_and_synchronised_become_per_minute() {
         "N7     START_SPEED_FEED_SYNC(1.500000,0)",
         "N8     STRAIGHT_FEED(30.0000, 0.0000, -10.0000, 0.0000, 0.0000, 0.0000)",
         "N9     STOP_SPEED_FEED_SYNCH()",
+        // G33.1 K1.25: a rigid tap to Z-5 and back, at 625 mm/min.
+        "N10    START_SPEED_FEED_SYNC(1.250000,0)",
+        "N10    RIGID_TAP(30.0000, 0.0000, -5.0000)",
+        "N10    STOP_SPEED_FEED_SYNCH()",
     ]);
     let feeds: Vec<f64> = moves.iter().map(|m| m.feed.unwrap()).collect();
     assert!((feeds[0] - 50.0).abs() < 1e-9 && (feeds[1] - 750.0).abs() < 1e-9, "{feeds:?}");
+    let tap = moves.iter().last().unwrap();
+    assert_eq!((&tap.kind, tap.end, tap.feed), (&Kind::Tap, Some([30.0, 0.0, -5.0]), Some(625.0)));
 }
 
 #[test]

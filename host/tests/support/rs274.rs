@@ -324,8 +324,7 @@ impl Moves {
                         "STRAIGHT_TRAVERSE" => (Kind::Rapid, to_machine([number(0), number(1), number(2)])),
                         "STRAIGHT_FEED" => (Kind::Feed, to_machine([number(0), number(1), number(2)])),
                         "STRAIGHT_PROBE" => (Kind::Probe, to_machine([number(0), number(1), number(2)])),
-                        // RIGID_TAP(line, x, y, z, scale)
-                        _ => (Kind::Tap, to_machine([number(1), number(2), number(3)])),
+                        _ => (Kind::Tap, to_machine([number(0), number(1), number(2)])),
                     };
                     let rate = match synchronised {
                         Some(pitch) => Some(pitch * speed),
