@@ -120,10 +120,6 @@ impl Moves {
         self.moves.iter()
     }
 
-    pub fn len(&self) -> usize {
-        self.moves.len()
-    }
-
     pub fn is_empty(&self) -> bool {
         self.moves.is_empty()
     }
