@@ -5,6 +5,7 @@ use serde::Deserialize;
 
 use crate::check::Rule;
 use crate::diag::{Diagnostic, Span};
+use crate::parse::CodeLists;
 use crate::statement::{Dialect, Units};
 
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -19,9 +20,11 @@ pub struct Config {
     #[serde(default = "default_tools")]
     pub tools: Vec<Tool>,
     /// "strict", the GER manual's G-code (default), or "lenient": that and
-    /// what CAM programs and controllers commonly emit.
-    #[serde(default, with = "dialect_name")]
-    pub dialect: Dialect,
+    /// what CAM programs and controllers commonly emit. Either the name
+    /// alone (`dialect = "lenient"`) or a table (`[dialect]`) that also
+    /// lists M codes to pass through silently or to drop.
+    #[serde(default)]
+    pub dialect: DialectConfig,
     #[serde(default)]
     pub machine: MachineSettings,
     /// The block the program cuts, for `ger render`.
@@ -54,11 +57,21 @@ pub struct MachineSettings {
     /// Rapid (G00) speed in machine units per minute, for run-time estimates:
     /// default 200 in/min or 5000 mm/min.
     pub rapid_rate: Option<f64>,
+    /// The feed (machine units per minute) of a feed move before any F
+    /// (lenient dialect): default none, so such a move is an error.
+    pub default_feed: Option<f64>,
 }
 
 impl Default for MachineSettings {
     fn default() -> MachineSettings {
-        MachineSettings { second_reference: [0.0; 3], m47_repeats: one(), travel: None, home: None, rapid_rate: None }
+        MachineSettings {
+            second_reference: [0.0; 3],
+            m47_repeats: one(),
+            travel: None,
+            home: None,
+            rapid_rate: None,
+            default_feed: None,
+        }
     }
 }
 
@@ -107,6 +120,10 @@ pub struct RenderConfig {
     pub memory_limit_mb: Option<u64>,
 }
 
+/// How many entries the work-offsets table has: G54..G59, G59.1..G59.3,
+/// then the extended offsets of G54.1 P1.. / G154 P1...
+pub const WORK_OFFSETS: usize = 9 + crate::parse::EXTENDED_OFFSETS as usize;
+
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorkOffsets {
@@ -122,13 +139,28 @@ pub struct WorkOffsets {
     pub g58: Option<[f64; 3]>,
     #[serde(rename = "G59")]
     pub g59: Option<[f64; 3]>,
+    #[serde(rename = "G59.1")]
+    pub g59_1: Option<[f64; 3]>,
+    #[serde(rename = "G59.2")]
+    pub g59_2: Option<[f64; 3]>,
+    #[serde(rename = "G59.3")]
+    pub g59_3: Option<[f64; 3]>,
+    /// The extended offsets, P1 first: G54.1 Pn (Fanuc) and G154 Pn (Haas).
+    #[serde(rename = "G54.1", default)]
+    pub extended: Vec<[f64; 3]>,
 }
 
 impl WorkOffsets {
-    /// Entry 1..=6 (G54..G59); an entry not in the file is (0, 0, 0).
+    /// Entry 1..=9 (G54..G59.3), then 9 + n (G54.1 Pn); an entry not in
+    /// the file is (0, 0, 0).
     pub fn entry(&self, entry: u8) -> [f64; 3] {
-        let entries = [self.g54, self.g55, self.g56, self.g57, self.g58, self.g59];
-        entries[usize::from(entry - 1)].unwrap_or([0.0; 3])
+        let entries = [self.g54, self.g55, self.g56, self.g57, self.g58, self.g59, self.g59_1, self.g59_2, self.g59_3];
+        let entry = usize::from(entry);
+        let given = match entry {
+            1..=9 => entries[entry - 1],
+            _ => self.extended.get(entry - 10).copied(),
+        };
+        given.unwrap_or([0.0; 3])
     }
 }
 
@@ -161,7 +193,7 @@ impl Default for Config {
             units: default_units(),
             offsets: WorkOffsets::default(),
             tools: default_tools(),
-            dialect: Dialect::Strict,
+            dialect: DialectConfig::default(),
             machine: MachineSettings::default(),
             stock: StockConfig::default(),
             render: RenderConfig::default(),
@@ -179,18 +211,81 @@ fn default_tools() -> Vec<Tool> {
     vec![Tool { number: 1, kind: ToolKind::Endmill, diameter: 0.25, flute_length: None, tip_angle: None }]
 }
 
-mod dialect_name {
-    use serde::{Deserialize, Deserializer};
+/// `dialect = "lenient"`, or a `[dialect]` table with the name and what to
+/// do with M codes the lenient dialect does not know.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DialectConfig {
+    pub name: Dialect,
+    pub codes: CodeLists,
+}
 
+impl From<Dialect> for DialectConfig {
+    fn from(name: Dialect) -> DialectConfig {
+        DialectConfig { name, codes: CodeLists::default() }
+    }
+}
+
+mod dialect_config {
+    use serde::de::{self, Deserializer, MapAccess, Visitor};
+    use serde::Deserialize;
+
+    use super::DialectConfig;
+    use crate::parse::CodeLists;
     use crate::statement::Dialect;
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Dialect, D::Error> {
-        match String::deserialize(d)?.as_str() {
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Table {
+        #[serde(default)]
+        name: Option<String>,
+        #[serde(default)]
+        pass_through: Vec<String>,
+        #[serde(default)]
+        ignore: Vec<String>,
+    }
+
+    fn name<E: de::Error>(name: &str) -> Result<Dialect, E> {
+        match name {
             "strict" => Ok(Dialect::Strict),
             "lenient" => Ok(Dialect::Lenient),
-            other => {
-                Err(serde::de::Error::custom(format!("dialect must be \"strict\" or \"lenient\", not \"{other}\"")))
-            }
+            other => Err(E::custom(format!("dialect must be \"strict\" or \"lenient\", not \"{other}\""))),
+        }
+    }
+
+    fn codes<E: de::Error>(list: &[String]) -> Result<Vec<u32>, E> {
+        list.iter()
+            .map(|text| {
+                CodeLists::code(text)
+                    .ok_or_else(|| E::custom(format!("`{text}` is not an M code: write them as \"M62\", \"M100\"")))
+            })
+            .collect()
+    }
+
+    struct DialectVisitor;
+
+    impl<'de> Visitor<'de> for DialectVisitor {
+        type Value = DialectConfig;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("\"strict\", \"lenient\", or a [dialect] table")
+        }
+
+        fn visit_str<E: de::Error>(self, text: &str) -> Result<DialectConfig, E> {
+            Ok(name::<E>(text)?.into())
+        }
+
+        fn visit_map<M: MapAccess<'de>>(self, map: M) -> Result<DialectConfig, M::Error> {
+            let table = Table::deserialize(de::value::MapAccessDeserializer::new(map))?;
+            // A table alone says what to do with codes only the lenient dialect reads.
+            let name = table.name.as_deref().map_or(Ok(Dialect::Lenient), name)?;
+            let codes = CodeLists { pass_through: codes(&table.pass_through)?, ignore: codes(&table.ignore)? };
+            Ok(DialectConfig { name, codes })
+        }
+    }
+
+    impl<'de> Deserialize<'de> for DialectConfig {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<DialectConfig, D::Error> {
+            d.deserialize_any(DialectVisitor)
         }
     }
 }
@@ -381,7 +476,7 @@ tip_angle = 90
 "#;
         let config = Config::from_toml(text).unwrap();
         assert_eq!(config.units, Units::Mm);
-        assert_eq!(config.dialect, Dialect::Lenient);
+        assert_eq!(config.dialect.name, Dialect::Lenient);
         assert_eq!(config.machine.second_reference, [0.0, 0.0, 50.0]);
         assert_eq!(config.offsets.entry(1), [10.0, 20.0, -5.0]);
         assert_eq!(config.offsets.entry(2), [0.0; 3]);

@@ -256,6 +256,20 @@ impl<R: BufRead> Lexer<R> {
                     pos += 1;
                 }
                 b'%' if first_on_line && text[pos + 1..].trim().is_empty() => pos = bytes.len(),
+                // A tape marker followed by a name or comment (`%PART1`), as Fanuc reads it.
+                b'%' if first_on_line && self.lenient => pos = bytes.len(),
+                // GRBL's system commands (`$H`, `$X`, `$32=1`): not G-code, and not sent to any other controller.
+                b'$' if first_on_line && self.lenient => {
+                    let command = text[pos..].trim_end();
+                    let message = format!("`{command}` is a GRBL system command, not G-code: it is dropped");
+                    let help = if command.eq_ignore_ascii_case("$H") {
+                        "homing is the machine's business before the program starts; ger's machine zero is where the tool starts"
+                    } else {
+                        "send GRBL's settings and commands from the sender, not in the program"
+                    };
+                    self.push_diag(Diagnostic::warning(self.span(pos, command.len()), message).with_help(help));
+                    pos = bytes.len();
+                }
                 b'"' if in_wizard_args => pos = self.string(text, pos),
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
                 _ if c.is_ascii_alphabetic() => {
@@ -353,9 +367,18 @@ impl<R: BufRead> Lexer<R> {
         end
     }
 
+    /// The comment runs to the `)` that balances its first `(`, so the rest
+    /// of the line keeps its meaning; the lenient dialect takes that as some
+    /// controllers do, with a warning.
     fn nested_comment(&mut self, col: usize) {
-        let diagnostic = Diagnostic::error(self.span(col, 1), "comments cannot nest: `(` inside a comment")
-            .with_help("close the first comment with `)` before opening another");
+        let span = self.span(col, 1);
+        let diagnostic = if self.lenient {
+            Diagnostic::warning(span, "a comment inside a comment: read to the `)` that closes the first `(`")
+                .with_help("LinuxCNC and Fanuc refuse nested comments; close the first comment before opening another")
+        } else {
+            Diagnostic::error(span, "comments cannot nest: `(` inside a comment")
+                .with_help("close the first comment with `)` before opening another")
+        };
         self.push_diag(diagnostic);
     }
 

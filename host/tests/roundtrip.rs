@@ -15,7 +15,7 @@ use proptest::prelude::*;
 
 /// Translates `program`; panics on any diagnostic (generated programs are valid).
 fn translated(program: &str, config: &Config) -> String {
-    let library = Library::scanning(|| Library::scan(program.as_bytes(), config.dialect));
+    let library = Library::scanning(|| Library::scan(program.as_bytes(), &config.dialect));
     let emitter = Emitter::new(config.units.decimals(), true);
     let options = Options { config, stage: LAST_STAGE, wizards: &mut NoWizards };
     let mut out = preamble("generated", config.units);

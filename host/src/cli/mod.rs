@@ -13,12 +13,12 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::config::Config;
+use crate::config::{Config, DialectConfig};
 use crate::emit::{preamble, Emitter};
 use crate::expand::{Limits, WasmWizards, Wizards};
 use crate::lex::{Lexed, Lexer, TokenKind};
-use crate::parse::{parse, parse_in};
-use crate::passes::{translate, Event, Library, Options, LAST_STAGE};
+use crate::parse::parse;
+use crate::passes::{self, translate, Event, Library, Options, LAST_STAGE};
 use crate::statement::{Dialect, Units};
 use report::{plain_error, read_error, Report};
 
@@ -258,7 +258,7 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
         }
     };
     if args.lenient {
-        config.dialect = Dialect::Lenient;
+        config.dialect.name = Dialect::Lenient;
     }
     if let Some(units) = args.units {
         config.units = match units {
@@ -271,9 +271,9 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
 
 /// The subprograms of `input`, found by reading it again when a call names
 /// one not seen yet; and the program itself again, for M47.
-fn library(input: &Input, dialect: Dialect) -> Library<'_> {
+fn library<'a>(input: &'a Input, dialect: &'a DialectConfig) -> Library<'a> {
     Library::scanning(move || Library::scan(input.open(), dialect))
-        .with_restart(move || Box::new(parse_in(Lexer::in_dialect(input.open(), dialect), dialect)))
+        .with_restart(move || Box::new(passes::parse(input.open(), dialect)))
 }
 
 pub(crate) fn styled() -> bool {
@@ -289,7 +289,7 @@ fn translate_into(
     wizards: &mut dyn Wizards,
     mut write: impl FnMut(&str) -> io::Result<()>,
 ) -> io::Result<Report> {
-    let library = library(input, config.dialect);
+    let library = library(input, &config.dialect);
     let options = Options { config, stage, wizards };
     // Before pass 01 the numbers are still in the program's own units, which may be finer.
     let decimals = if stage == 0 { 4 } else { config.units.decimals() };

@@ -216,7 +216,7 @@ pub(super) fn walk_events(
     progress: Option<&mut Progress>,
     mut each: impl FnMut(Event) -> bool,
 ) {
-    let library = library(input, config.dialect);
+    let library = library(input, &config.dialect);
     let options = Options { config, stage: LAST_STAGE, wizards };
     let count = Arc::new(AtomicU64::new(0));
     let reader = Counting { inner: input.open(), count: count.clone() };

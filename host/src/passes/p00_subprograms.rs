@@ -18,11 +18,10 @@ use std::collections::{HashMap, HashSet};
 use std::io::BufRead;
 use std::sync::Arc;
 
-use crate::config::Config;
+use crate::config::{Config, DialectConfig};
 use crate::diag::{Diagnostic, Origin, Span};
 use crate::expand::{Call, Wizards};
-use crate::lex::Lexer;
-use crate::parse::{parse_in, Event};
+use crate::parse::Event;
 use crate::state::Probe;
 use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, Statement};
 
@@ -62,11 +61,11 @@ impl<'a> Library<'a> {
     }
 
     /// Reads a whole program and keeps the body of every subprogram in it.
-    pub fn scan(program: impl BufRead, dialect: Dialect) -> HashMap<u32, Body> {
+    pub fn scan(program: impl BufRead, dialect: &DialectConfig) -> HashMap<u32, Body> {
         let mut bodies = HashMap::new();
         let mut current: Option<(u32, Vec<Statement>)> = None;
         let mut first = true;
-        for event in parse_in(Lexer::in_dialect(program, dialect), dialect) {
+        for event in super::parse(program, dialect) {
             let Event::Statement(statement) = event else {
                 continue;
             };
@@ -101,7 +100,9 @@ struct Frame {
     body: Body,
     next: usize,
     repeats_left: u32,
-    origin: Arc<Origin>,
+    /// The call the body runs in; none for a canned cycle's L repeats, which
+    /// run where the cycle is.
+    origin: Option<Arc<Origin>>,
     wizard: bool,
 }
 
@@ -128,6 +129,9 @@ pub struct Subprograms<'a, I> {
     seen_first_statement: bool,
     ended: bool,
     warned_after_end: bool,
+    warned_m99: bool,
+    /// An event to hand out before reading on.
+    pending: Option<Event>,
     motion: MotionMode,
     /// The canned cycle a bare position repeats, until G80 or a motion code.
     cycle: Option<CycleCode>,
@@ -147,6 +151,8 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             seen_first_statement: false,
             ended: false,
             warned_after_end: false,
+            warned_m99: false,
+            pending: None,
             motion: MotionMode::Rapid,
             cycle: None,
         }
@@ -158,7 +164,9 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             if let Some(statement) = frame.body.get(frame.next) {
                 frame.next += 1;
                 let mut statement = statement.clone();
-                statement.origin = Some(frame.origin.clone());
+                if let Some(origin) = &frame.origin {
+                    statement.origin = Some(origin.clone());
+                }
                 return Some(statement);
             }
             if frame.repeats_left > 1 {
@@ -210,6 +218,17 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 let diagnostic = Diagnostic::warning(statement.span, "this statement follows M30 and never runs")
                     .with_help("after M30, only subprograms (O... to M99) belong in the file");
                 Some(Event::Diagnostic(diagnostic))
+            }
+            // Fanuc and Haas rewind the main program at its M99 and run it
+            // again: the lenient dialect reads it as M47.
+            Kind::Return if self.runtime.config.dialect.name == Dialect::Lenient => {
+                let message = "M99 in the main program runs it again from the start, as M47 does";
+                let help = "the program is read again [machine] m47_repeats times (default 1), then it ends";
+                if !std::mem::replace(&mut self.warned_m99, true) {
+                    self.pending =
+                        Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
+                }
+                self.main_statement(statement.with_kind(Kind::Repeat))
             }
             Kind::Return => {
                 let diagnostic = Diagnostic::error(statement.span, "M99 outside a subprogram")
@@ -264,7 +283,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                         call: statement.span,
                         parent: statement.origin.clone(),
                     });
-                    self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin, wizard: false });
+                    self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin: Some(origin), wizard: false });
                 }
                 None
             }
@@ -300,7 +319,14 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                             call: statement.span,
                             parent: statement.origin.clone(),
                         });
-                        self.stack.push(Frame { body: Arc::new(body), next: 0, repeats_left: 1, origin, wizard: true });
+                        let frame = Frame {
+                            body: Arc::new(body),
+                            next: 0,
+                            repeats_left: 1,
+                            origin: Some(origin),
+                            wizard: true,
+                        };
+                        self.stack.push(frame);
                         None
                     }
                     Err(diagnostic) => Some(error(&statement, diagnostic)),
@@ -338,6 +364,19 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             }
             Kind::Cycle(cycle) => {
                 self.cycle = Some(cycle.code);
+                // L repeats run one at a time, like M98's, so a large L holds one statement.
+                if cycle.repeat > 1 {
+                    let repeats = std::mem::replace(&mut cycle.repeat, 1);
+                    let frame = Frame {
+                        body: Arc::new(vec![statement]),
+                        next: 0,
+                        repeats_left: repeats,
+                        origin: None,
+                        wizard: false,
+                    };
+                    self.stack.push(frame);
+                    return None;
+                }
                 Some(Event::Statement(statement))
             }
             // G80 ends the series; the others change nothing a later pass needs.
@@ -408,6 +447,9 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
 
     fn next(&mut self) -> Option<Event> {
         loop {
+            if let Some(event) = self.pending.take() {
+                return Some(event);
+            }
             let event = match self.next_from_stack() {
                 Some(statement) => self.run(statement),
                 None => match self.restarted.as_mut().map_or_else(|| self.upstream.next(), |stream| stream.next()) {
@@ -470,7 +512,7 @@ mod tests {
 
     #[test]
     fn a_canned_cycle_repeats_only_at_a_position_and_has_no_centre() {
-        let config = crate::config::Config { dialect: crate::statement::Dialect::Lenient, ..Default::default() };
+        let config = crate::config::Config { dialect: crate::statement::Dialect::Lenient.into(), ..Default::default() };
         let cycle = "G81 X0 Z-1 R0.1 F5\n";
         // R changes with a new hole, not alone: alone LinuxCNC rejects it, and ger drilled the same hole again.
         let got = run_with(&format!("{cycle}R0.2\nX1 R0.3\nM30"), &config, 0);
@@ -504,7 +546,8 @@ mod tests {
 
     #[test]
     fn m47_repeats_the_program_a_bounded_number_of_times() {
-        let mut config = crate::config::Config { dialect: crate::statement::Dialect::Lenient, ..Default::default() };
+        let mut config =
+            crate::config::Config { dialect: crate::statement::Dialect::Lenient.into(), ..Default::default() };
         config.machine.m47_repeats = 2;
         let got = run_with("O9\nG91\nG00 X1\nM98 P5\nM47\nO5\nY1\nM99", &config, 0);
         let once = ["G91", "G00 X1.0000", "G00 Y1.0000"];

@@ -61,7 +61,6 @@ impl Pass for Units {
             Kind::Offset { axes, .. } | Kind::SetWorkOffset { axes, .. } | Kind::Home { via: axes, .. } => {
                 *axes = axes.map(|_, v| v * factor)
             }
-            Kind::ToolLength { z, .. } => scale(z),
             Kind::MachineMove(m) => {
                 m.target = m.target.map(|_, v| v * factor);
                 scale(&mut m.feed);
@@ -86,10 +85,19 @@ mod tests {
 
     #[test]
     fn millimetres_become_inches_on_an_inch_machine() {
-        let got = run("G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG43 Z5.08 H1\nG20\nG01 X1", 1);
+        // G43's Z is a move in the mode in force, converted like any other.
+        let got = run("G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG00\nG43 Z5.08 H1\nG20\nG01 X1", 1);
         assert_eq!(
             got,
-            ["G01 X1.0000 Y-0.5000 F10.0000", "G02 X2.0000 R0.5000", "G52 X0.1000", "G43 Z0.2000 H1", "G01 X1.0000",]
+            [
+                "G01 X1.0000 Y-0.5000 F10.0000",
+                "G02 X2.0000 R0.5000",
+                "G52 X0.1000",
+                "G00",
+                "G43 H1",
+                "G00 Z0.2000",
+                "G01 X1.0000",
+            ]
         );
     }
 

@@ -11,18 +11,27 @@
 //! look-ahead, so it is the position before this statement).
 
 use super::{Out, Pass};
-use crate::config::WorkOffsets;
+use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
 use crate::state::Probe;
-use crate::statement::{Axes, Distance, Kind, Offset, Statement};
+use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Statement};
 
 pub struct Offsets {
-    /// G54..G59, in machine coordinates.
-    table: [[f64; 3]; 6],
+    /// G54..G59.3 and the extended offsets, in machine coordinates.
+    table: Vec<[f64; 3]>,
     /// Machine coordinates of program zero.
     prz: [f64; 3],
     /// The table entry program zero comes from, if it does (not after G52/G92).
     entry_in_force: Option<u8>,
+    /// The coordinate system last selected (G54 until another): G92.1-G92.3
+    /// put program zero back on it.
+    system: u8,
+    /// The G52/G92 offset from that system, as LinuxCNC keeps it for G92.3.
+    kept_g92: [f64; 3],
+    /// G90.1: I, J and K are absolute, so they move with program zero.
+    absolute_centres: bool,
+    /// The lenient dialect changes program zero in G91, as LinuxCNC does.
+    dialect: Dialect,
     distance: Distance,
     polar: bool,
     comp: bool,
@@ -30,11 +39,15 @@ pub struct Offsets {
 }
 
 impl Offsets {
-    pub fn new(table: WorkOffsets, probe: Probe) -> Offsets {
+    pub fn new(table: &WorkOffsets, dialect: Dialect, probe: Probe) -> Offsets {
         Offsets {
-            table: std::array::from_fn(|i| table.entry(i as u8 + 1)),
+            table: (1..=WORK_OFFSETS).map(|entry| table.entry(entry as u8)).collect(),
             prz: [0.0; 3],
             entry_in_force: None,
+            system: 1,
+            kept_g92: [0.0; 3],
+            absolute_centres: false,
+            dialect,
             distance: Distance::Absolute,
             polar: false,
             comp: false,
@@ -45,7 +58,7 @@ impl Offsets {
     fn mode_forbidding_offsets(&self) -> Option<(&'static str, &'static str)> {
         if self.polar {
             Some(("polar coordinates (G16) are on", "turn them off with G15 first"))
-        } else if self.distance == Distance::Incremental {
+        } else if self.distance == Distance::Incremental && self.dialect == Dialect::Strict {
             Some(("incremental mode (G91) is on", "switch to absolute mode with G90 first"))
         } else if self.comp {
             Some(("cutter radius compensation (G41/G42) is on", "cancel it with G40 first"))
@@ -89,10 +102,30 @@ impl Pass for Offsets {
                 }
                 let given = |axis: usize| axes.get(axis).map_or(0.0, |v| v.value);
                 let position = self.probe.borrow().position;
+                let system = self.table[usize::from(self.system - 1)];
                 match code {
-                    Offset::G52 => self.set_prz([given(0), given(1), given(2)], None),
-                    Offset::WorkOffset(entry) => self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry)),
-                    Offset::G92 => self.set_prz(std::array::from_fn(|axis| position[axis] - given(axis)), None),
+                    Offset::G52 | Offset::G92 => {
+                        let prz = match code {
+                            Offset::G52 => [given(0), given(1), given(2)],
+                            _ => std::array::from_fn(|axis| position[axis] - given(axis)),
+                        };
+                        self.kept_g92 = std::array::from_fn(|axis| prz[axis] - system[axis]);
+                        self.set_prz(prz, None);
+                    }
+                    Offset::WorkOffset(entry) => {
+                        self.system = *entry;
+                        self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry));
+                    }
+                    Offset::G92Cancel { keep } => {
+                        if !*keep {
+                            self.kept_g92 = [0.0; 3];
+                        }
+                        self.set_prz(system, Some(self.system));
+                    }
+                    Offset::G92Restore => {
+                        let prz = std::array::from_fn(|axis| system[axis] + self.kept_g92[axis]);
+                        self.set_prz(prz, None);
+                    }
                 }
                 return;
             }
@@ -100,7 +133,7 @@ impl Pass for Offsets {
                 if self.comp {
                     return out.error(&statement, comp_refuses("G10"));
                 }
-                let entry = if *entry == 0 { self.entry_in_force.unwrap_or(1) } else { *entry };
+                let entry = if *entry == 0 { self.system } else { *entry };
                 let position = self.probe.borrow().position;
                 let row = &mut self.table[usize::from(entry - 1)];
                 for (axis, value) in row.iter_mut().enumerate() {
@@ -113,8 +146,13 @@ impl Pass for Offsets {
                 }
                 return;
             }
-            Kind::Motion(motion) => motion.target = self.to_machine(motion.target),
-            Kind::ToolLength { z: Some(z), .. } if self.distance == Distance::Absolute => z.value += self.prz[2],
+            Kind::ArcCentres(distance) => self.absolute_centres = *distance == Distance::Absolute,
+            Kind::Motion(motion) => {
+                motion.target = self.to_machine(motion.target);
+                if self.absolute_centres {
+                    motion.centre = motion.centre.map(|axis, v| v + self.prz[axis]);
+                }
+            }
             Kind::Cycle(cycle) => {
                 cycle.target = self.to_machine(cycle.target);
                 // R is a Z level like the bottom, Z.

@@ -26,6 +26,10 @@ fn peck_clearance(units: Units) -> f64 {
     0.01 * Units::Inch.factor_to(units)
 }
 
+/// The most pecks one hole may take: a hole's moves are made at once, so a
+/// Q far too small for the depth is an error, not an endless expansion.
+pub const MAX_PECKS: f64 = 10_000.0;
+
 impl Absolute {
     pub(super) fn cycle(&mut self, cycle: &Cycle, statement: &Statement, out: &mut Out) -> Result<(), Diagnostic> {
         let code = cycle.code.code();
@@ -59,13 +63,17 @@ impl Absolute {
             CycleCode::DrillDwell | CycleCode::BoreSpindleStop | CycleCode::BoreDwell => {
                 Some(p.ok_or_else(|| missing("a P word: the dwell in seconds"))?)
             }
+            CycleCode::Tap | CycleCode::TapLeft => p,
             _ => None,
         };
         if self.feed.is_none() {
             return Err(Diagnostic::error(statement.span, format!("{code} before any feed rate (F)"))
                 .with_help(format!("give the feed on the cycle, e.g. {code} ... F10")));
         }
-        for _ in 0..cycle.repeat {
+        // Pass 00 streams the L repeats, one cycle statement each; L0
+        // (Fanuc's K0) keeps the cycle's words and drills nothing.
+        debug_assert!(cycle.repeat <= 1);
+        if cycle.repeat == 1 {
             let start_z = self.position[2];
             let (r_plane, bottom) = match self.distance {
                 Distance::Absolute => (r, z),
@@ -102,6 +110,15 @@ impl Absolute {
                 }
                 CycleCode::Peck | CycleCode::ChipBreak => {
                     let q = q.expect("checked above");
+                    if (r_plane - bottom) / q > MAX_PECKS {
+                        let (u, d) = (self.units.abbreviation(), self.units.decimals());
+                        let message = format!(
+                            "{code}: pecks of {q:.d$} {u} down {:.d$} {u} make more than {MAX_PECKS} pecks",
+                            r_plane - bottom
+                        );
+                        return Err(Diagnostic::error(statement.span, message)
+                            .with_help("Q is the depth of each peck: give a larger one"));
+                    }
                     let mut depth = r_plane;
                     loop {
                         let next = (depth - q).max(bottom);
@@ -136,6 +153,22 @@ impl Absolute {
                     self.move_to(MotionMode::Linear, at(bottom), statement, out);
                     self.dwell(p, statement, out);
                     self.move_to(MotionMode::Linear, at(clear), statement, out);
+                }
+                // LinuxCNC's G84: feed in, reverse the spindle, dwell, feed out, turn it back.
+                CycleCode::Tap | CycleCode::TapLeft => {
+                    let (inward, outward) = match cycle.code {
+                        CycleCode::Tap => (Machine::SpindleCw, Machine::SpindleCcw),
+                        _ => (Machine::SpindleCcw, Machine::SpindleCw),
+                    };
+                    let speed = match self.probe.borrow().spindle {
+                        Spindle::Clockwise(s) | Spindle::CounterClockwise(s) => s,
+                        Spindle::Off => None,
+                    };
+                    self.move_to(MotionMode::Linear, at(bottom), statement, out);
+                    self.spindle(outward, speed, statement, out);
+                    self.dwell(p, statement, out);
+                    self.move_to(MotionMode::Linear, at(r_plane), statement, out);
+                    self.spindle(inward, speed, statement, out);
                 }
             }
             self.rapid_to(at(clear), statement, out);

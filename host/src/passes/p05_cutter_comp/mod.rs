@@ -534,12 +534,6 @@ impl Pass for CutterComp {
                 let step = self.advance(motion);
                 self.motion(statement, step, out);
             }
-            Kind::ToolLength { z, .. } => {
-                if let Some(z) = z {
-                    self.position[2] = z.value;
-                }
-                self.pass(statement, out);
-            }
             Kind::Machine { code: Machine::ToolChange, t, .. } => {
                 // The radius in use stays until G40, as in LinuxCNC; a new
                 // G41/G42 takes the new tool's.
