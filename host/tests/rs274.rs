@@ -189,10 +189,15 @@ fn spindle_commands_that_change_nothing_are_left_out() {
         "N3     START_SPINDLE_CLOCKWISE(0)",
         "N6     START_SPINDLE_CLOCKWISE(0)",
         "N7     DWELL(0.5000)",
+        // G84 at the bottom of the hole: a stop, then the reverse.
+        "N8     STOP_SPINDLE_TURNING(0)",
         "N8     START_SPINDLE_COUNTERCLOCKWISE(0)",
+        "N9     DWELL(0.2500)",
+        "N10    STOP_SPINDLE_TURNING(0)",
     ]);
     let kinds: Vec<&Kind> = moves.iter().map(|m| &m.kind).collect();
-    assert_eq!(kinds, [&Kind::Spindle(1), &Kind::Dwell(0.5), &Kind::Spindle(-1)]);
+    let expected = [&Kind::Spindle(1), &Kind::Dwell(0.5), &Kind::Spindle(-1), &Kind::Dwell(0.25), &Kind::Spindle(0)];
+    assert_eq!(kinds, expected);
 }
 
 #[test]
@@ -206,6 +211,9 @@ fn moves_that_go_nowhere_on_one_side_are_passed_over() {
     ]);
     let ger = Moves::from_ger("G21\nN2 G00 Z1.000\nN3 G00 Z1.001\nN4 G00 X5.000 Z1.000\n");
     assert_eq!(rs274::compare(&ger, &peer, TOLERANCE_MM).unwrap().moves, 2);
+    // A dwell of no time on one side is passed over too.
+    let with_dwell = Moves::from_ger("G21\nN2 G00 Z1.000\nN3 G04 P0.000\nN4 G00 X5.000 Z1.000\n");
+    assert_eq!(rs274::compare(&with_dwell, &peer, TOLERANCE_MM).unwrap().moves, 2);
     // A move that does go somewhere is not passed over.
     let ger = Moves::from_ger("G21\nN2 G00 Z1.000\nN3 G00 Z1.500\nN4 G00 X5.000 Z1.000\n");
     assert!(rs274::compare(&ger, &peer, TOLERANCE_MM).is_err());

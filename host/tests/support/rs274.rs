@@ -99,7 +99,7 @@ impl fmt::Display for Move {
 
 /// What one side does, in order: every move, dwell and change of the
 /// spindle. Spindle commands that change nothing (LinuxCNC stops the spindle
-/// at every tool change) are left out.
+/// at every tool change) are left out, and so is a stop right before a start.
 #[derive(Debug, Default)]
 pub struct Moves {
     moves: Vec<Move>,
@@ -108,6 +108,8 @@ pub struct Moves {
     /// Where the tool is, once known.
     at: Option<[f64; 3]>,
     spindle: i32,
+    /// What the spindle did before it last stopped.
+    before_stop: i32,
 }
 
 impl Moves {
@@ -132,8 +134,21 @@ impl Moves {
 
     fn push(&mut self, mut m: Move) {
         match m.kind {
-            Kind::Spindle(turn) if turn == self.spindle => return,
-            Kind::Spindle(turn) => self.spindle = turn,
+            Kind::Spindle(turn) => {
+                // A stop with nothing between it and a start is part of the
+                // start (LinuxCNC's G84 stops the spindle before reversing it).
+                if turn != 0 && self.moves.last().is_some_and(|last| last.kind == Kind::Spindle(0)) {
+                    self.moves.pop();
+                    self.spindle = self.before_stop;
+                }
+                if turn == self.spindle {
+                    return;
+                }
+                if turn == 0 {
+                    self.before_stop = self.spindle;
+                }
+                self.spindle = turn;
+            }
             // A rigid tap comes back to where it started.
             Kind::Dwell(_) | Kind::Tap => {}
             _ => {
@@ -401,8 +416,8 @@ impl fmt::Display for Disagreement {
 /// not a feed), end points, arc centres within `tolerance` (on top of the
 /// rounding of the digits each side printed), the same turn, the same feed,
 /// the same dwells and spindle changes. A straight move that goes nowhere
-/// (within the same tolerance) on one side is passed over where the other
-/// side has no such move. A spline of rs274's stands for the feeds and arcs
+/// (within the same tolerance), or a dwell of no time, on one side is passed
+/// over where the other side has no such move. A spline of rs274's stands for the feeds and arcs
 /// ger made for it: those after the previous move up to the spline's line.
 pub fn compare(ger: &Moves, peer: &Moves, tolerance: f64) -> Result<Agreement, Box<Disagreement>> {
     let slack = tolerance + ger.resolution + peer.resolution;
@@ -506,10 +521,14 @@ pub fn compare(ger: &Moves, peer: &Moves, tolerance: f64) -> Result<Agreement, B
     }
 }
 
-/// A straight move that ends where it starts, within `slack`.
+/// A straight move that ends where it starts, within `slack`, or a dwell of
+/// no time.
 fn goes_nowhere(m: &Move, slack: f64) -> bool {
-    matches!(m.kind, Kind::Rapid | Kind::Feed)
-        && m.start.zip(m.end).is_some_and(|(start, end)| distance(&start, &end) <= slack)
+    match m.kind {
+        Kind::Rapid | Kind::Feed => m.start.zip(m.end).is_some_and(|(start, end)| distance(&start, &end) <= slack),
+        Kind::Dwell(seconds) => seconds.abs() <= DWELL_TOLERANCE,
+        _ => false,
+    }
 }
 
 fn feeds(ger: Option<f64>, peer: Option<f64>) -> String {
