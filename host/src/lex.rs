@@ -70,6 +70,10 @@ pub struct Lexer<R> {
 /// The longest line read: 1 MiB, far beyond any real program's.
 pub const MAX_LINE: usize = 1 << 20;
 
+/// The largest number a word may have. Numbers this size keep every sum
+/// and product the passes make finite (f64 reaches 10^308).
+pub const MAX_NUMBER: f64 = 1e12;
+
 /// A program's lines, as the lexer numbers them and diagnostics quote them:
 /// a line ends at LF, CRLF or a lone CR (files saved on old Macs), as in a
 /// text editor. A line longer than [`MAX_LINE`] is cut there, so one endless
@@ -395,17 +399,33 @@ impl<R: BufRead> Lexer<R> {
             let message = format!("malformed number in `{}`", &text[start..end + junk]);
             self.push_diag(Diagnostic::error(self.span(start, end + junk - start), message));
         } else if letter != 'N' {
-            self.push_token(TokenKind::Word { letter, value }, start, end - start);
+            self.push_word(letter, value, start, end - start);
         } else if !first_on_line {
             let message = "an N line number may only start a line";
             let diagnostic = Diagnostic::error(self.span(start, end - start), message)
                 .with_help("remove it, or move it to the start of the line");
             self.push_diag(diagnostic);
-        } else if value.fract() != 0.0 || value < 0.0 {
+        } else if value < 0.0 || (value.fract() != 0.0 && !self.lenient) {
+            // LinuxCNC reads past a fractional one (N10.5); so does the lenient dialect.
             let message = "an N line number must be a whole number";
             self.push_diag(Diagnostic::error(self.span(start, end - start), message));
         }
         end + junk
+    }
+
+    /// A letter and its number, if the number is one a machine could mean.
+    fn push_word(&mut self, letter: char, value: f64, start: usize, len: usize) {
+        if value.abs() > MAX_NUMBER {
+            self.too_large(start, len);
+        } else {
+            self.push_token(TokenKind::Word { letter, value }, start, len);
+        }
+    }
+
+    fn too_large(&mut self, start: usize, len: usize) {
+        let message = "this number is too large for any machine: ger reads numbers up to 10^12";
+        let help = "no length, feed, speed or program number comes near it: check for a missing decimal point";
+        self.push_diag(Diagnostic::error(self.span(start, len), message).with_help(help));
     }
 
     /// `X` with no number after it: the error swallows what looks like the
@@ -421,7 +441,7 @@ impl<R: BufRead> Lexer<R> {
             let number = number_len(&rest[spaces..]);
             if let (true, Ok(value)) = (number > 0 && spaces > 0, rest[spaces..spaces + number].parse::<f64>()) {
                 let letter = letter.to_ascii_uppercase();
-                self.push_token(TokenKind::Word { letter, value }, start, 1 + spaces + number);
+                self.push_word(letter, value, start, 1 + spaces + number);
                 return start + 1 + spaces + number;
             }
         }
@@ -440,9 +460,8 @@ impl<R: BufRead> Lexer<R> {
             .unwrap_or(text.len() - start);
         let piece = &text[start..start + len];
         match piece.parse::<f64>() {
-            Ok(value) if number_len(piece) == len && value.is_finite() => {
-                self.push_token(TokenKind::Number(value), start, len)
-            }
+            Ok(value) if number_len(piece) == len && value.abs() > MAX_NUMBER => self.too_large(start, len),
+            Ok(value) if number_len(piece) == len => self.push_token(TokenKind::Number(value), start, len),
             _ => {
                 let message = format!("wizard argument `{piece}` is neither a number nor a \"string\"");
                 let diagnostic = Diagnostic::error(self.span(start, len), message)

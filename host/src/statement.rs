@@ -22,6 +22,23 @@ impl Statement {
         Statement { kind, span, origin: None }
     }
 
+    /// Whether every number the statement holds is finite.
+    pub fn is_finite(&self) -> bool {
+        let axes = |axes: &Axes| (0..3).all(|axis| axes.get(axis).is_none_or(|v| v.value.is_finite()));
+        let value = |v: &Option<Value>| v.is_none_or(|v| v.value.is_finite());
+        let motion = |m: &Motion| axes(&m.target) && axes(&m.centre) && value(&m.radius) && value(&m.feed);
+        match &self.kind {
+            Kind::Motion(m) | Kind::MachineMove(m) => motion(m),
+            Kind::Offset { axes: a, .. } | Kind::SetWorkOffset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
+            Kind::Cycle(c) => axes(&c.target) && value(&c.r) && value(&c.q) && value(&c.p) && value(&c.feed),
+            Kind::Machine { s, .. } => s.is_none_or(f64::is_finite),
+            Kind::Dwell(v) | Kind::SpindleSpeed(v) => v.is_finite(),
+            Kind::Rotary(words) => words.iter().all(value),
+            Kind::PassThrough { words, .. } => words.iter().all(|(_, v)| v.is_finite()),
+            _ => true,
+        }
+    }
+
     /// The same origin, a new kind: for passes that rewrite a statement.
     pub fn with_kind(&self, kind: Kind) -> Statement {
         Statement { kind, span: self.span, origin: self.origin.clone() }

@@ -35,6 +35,13 @@ use p00_subprograms::WizardRuntime;
 /// A pass that rewrites one statement at a time.
 pub trait Pass {
     fn statement(&mut self, statement: Statement, out: &mut Out);
+    /// Goes on with work a statement left unfinished, a piece at a time, so a
+    /// long expansion (a canned cycle repeated L times) never sits whole in
+    /// `out`; false when there is none. Called whenever `out` is empty,
+    /// before the next statement is read.
+    fn resume(&mut self, _out: &mut Out) -> bool {
+        false
+    }
     /// Called once after the last statement.
     fn finish(&mut self, _out: &mut Out) {}
 }
@@ -83,6 +90,9 @@ impl<I: Iterator<Item = Event>, P: Pass> Iterator for Stage<I, P> {
         loop {
             if let Some(event) = self.out.events.pop_front() {
                 return Some(event);
+            }
+            if self.pass.resume(&mut self.out) {
+                continue;
             }
             match self.upstream.next() {
                 Some(Event::Statement(statement)) => self.pass.statement(statement, &mut self.out),
@@ -145,10 +155,22 @@ pub fn translate<'a, R: BufRead + 'a>(
     let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
     let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config, probe))), 4);
     let stream = Box::new(Stage::new(stream, p05_cutter_comp::CutterComp::new(config)));
-    if stage == LAST_STAGE {
-        stream
-    } else {
-        Box::new(tap.drain(stream))
+    let shown: Box<dyn Iterator<Item = Event> + 'a> =
+        if stage == LAST_STAGE { stream } else { Box::new(tap.drain(stream)) };
+    Box::new(shown.map(only_finite))
+}
+
+/// Nothing non-finite leaves the translator: the lexer bounds every number,
+/// so this is the net under arithmetic that went wrong (a division by a
+/// near-zero length), reported at the statement that made it.
+fn only_finite(event: Event) -> Event {
+    match event {
+        Event::Statement(statement) if !statement.is_finite() => Event::Diagnostic(
+            Diagnostic::error(statement.span, "this statement works out to a number too large to write")
+                .with_help("a length or angle here is out of any machine's range: check the numbers it is made from")
+                .with_origin(statement.origin.clone()),
+        ),
+        event => event,
     }
 }
 

@@ -100,9 +100,7 @@ struct Frame {
     body: Body,
     next: usize,
     repeats_left: u32,
-    /// The call the body runs in; none for a canned cycle's L repeats, which
-    /// run where the cycle is.
-    origin: Option<Arc<Origin>>,
+    origin: Arc<Origin>,
     wizard: bool,
 }
 
@@ -164,9 +162,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             if let Some(statement) = frame.body.get(frame.next) {
                 frame.next += 1;
                 let mut statement = statement.clone();
-                if let Some(origin) = &frame.origin {
-                    statement.origin = Some(origin.clone());
-                }
+                statement.origin = Some(frame.origin.clone());
                 return Some(statement);
             }
             if frame.repeats_left > 1 {
@@ -283,7 +279,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                         call: statement.span,
                         parent: statement.origin.clone(),
                     });
-                    self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin: Some(origin), wizard: false });
+                    self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin, wizard: false });
                 }
                 None
             }
@@ -319,14 +315,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                             call: statement.span,
                             parent: statement.origin.clone(),
                         });
-                        let frame = Frame {
-                            body: Arc::new(body),
-                            next: 0,
-                            repeats_left: 1,
-                            origin: Some(origin),
-                            wizard: true,
-                        };
-                        self.stack.push(frame);
+                        self.stack.push(Frame { body: Arc::new(body), next: 0, repeats_left: 1, origin, wizard: true });
                         None
                     }
                     Err(diagnostic) => Some(error(&statement, diagnostic)),
@@ -364,19 +353,6 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             }
             Kind::Cycle(cycle) => {
                 self.cycle = Some(cycle.code);
-                // L repeats run one at a time, like M98's, so a large L holds one statement.
-                if cycle.repeat > 1 {
-                    let repeats = std::mem::replace(&mut cycle.repeat, 1);
-                    let frame = Frame {
-                        body: Arc::new(vec![statement]),
-                        next: 0,
-                        repeats_left: repeats,
-                        origin: None,
-                        wizard: false,
-                    };
-                    self.stack.push(frame);
-                    return None;
-                }
                 Some(Event::Statement(statement))
             }
             // G80 ends the series; the others change nothing a later pass needs.

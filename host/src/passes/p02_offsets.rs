@@ -14,7 +14,7 @@ use super::{Out, Pass};
 use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
 use crate::state::Probe;
-use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Statement};
+use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Plane, Statement};
 
 pub struct Offsets {
     /// G54..G59.3 and the extended offsets, in machine coordinates.
@@ -32,6 +32,8 @@ pub struct Offsets {
     absolute_centres: bool,
     /// The lenient dialect changes program zero in G91, as LinuxCNC does.
     dialect: Dialect,
+    /// Canned cycles drill along the plane's normal.
+    plane: Plane,
     distance: Distance,
     polar: bool,
     comp: bool,
@@ -48,6 +50,7 @@ impl Offsets {
             kept_g92: [0.0; 3],
             absolute_centres: false,
             dialect,
+            plane: Plane::XY,
             distance: Distance::Absolute,
             polar: false,
             comp: false,
@@ -153,11 +156,12 @@ impl Pass for Offsets {
                     motion.centre = motion.centre.map(|axis, v| v + self.prz[axis]);
                 }
             }
+            Kind::Plane(plane) => self.plane = *plane,
             Kind::Cycle(cycle) => {
                 cycle.target = self.to_machine(cycle.target);
-                // R is a Z level like the bottom, Z.
+                // R is a level along the hole, like its bottom: Z in G17, Y in G18, X in G19.
                 if let (Distance::Absolute, Some(r)) = (self.distance, &mut cycle.r) {
-                    r.value += self.prz[2];
+                    r.value += self.prz[self.plane.axes().2];
                 }
             }
             Kind::Home { reference, via } => {

@@ -347,18 +347,30 @@ impl Pass for Absolute {
         for warning in self.warnings.drain(..) {
             out.report(warning.with_origin(origin.clone()));
         }
+        self.update_probe();
+    }
+
+    fn resume(&mut self, out: &mut Out) -> bool {
+        let more = self.next_hole(out);
+        if more {
+            self.update_probe();
+        }
+        more
+    }
+}
+
+impl Absolute {
+    fn update_probe(&self) {
         let mut probe = self.probe.borrow_mut();
         probe.position = self.position;
         probe.distance = self.distance;
         probe.plane = self.plane;
         probe.feed = self.feed;
     }
-}
 
-impl Absolute {
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
         if let Kind::Cycle(cycle) = &statement.kind {
-            if let Err(diagnostic) = self.cycle(cycle, &statement, out) {
+            if let Err(diagnostic) = self.cycle(cycle, &statement) {
                 out.error(&statement, diagnostic);
             }
             return;
