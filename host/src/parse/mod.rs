@@ -331,7 +331,7 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
     match (letter, number) {
         // P in seconds (LinuxCNC), or X in seconds (Fanuc, Haas).
         ('G', 40) => Some("PX"),
-        ('G', 100) => Some("LPXYZ"),
+        ('G', 100) => Some("LPXYZR"),
         ('G', 280 | 300) => Some("XYZ"),
         ('G', 530) => Some("XYZF"),
         ('G', 640) => Some("PQ"),
@@ -607,6 +607,11 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                         .with_help("P1 is G54, P2 G55, ... P6 G59, P7 to P9 G59.1 to G59.3"))
                 }
             };
+            // LinuxCNC's R turns the coordinate system about Z, which ger does not model.
+            if let Some(r) = words.get('R').filter(|r| r.value != 0.0) {
+                return Err(Diagnostic::error(r.span, "a rotated coordinate system (G10 R) is not supported")
+                    .with_help("rotate the program in the CAM system, or leave out R"));
+            }
             Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative }
         }
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
