@@ -26,14 +26,14 @@ enum Verdict {
 
 /// Runs `ger run --lenient` on one file, in the file's own units.
 fn translate(file: &Path, units: &str, config: &Path) -> Verdict {
-    let Some(output) = corpus::translate(file, units, config, TIME_LIMIT) else {
+    let run = corpus::translate(file, units, config, TIME_LIMIT);
+    if run.timed_out {
         return Verdict::Broken(format!("took more than {} s", TIME_LIMIT.as_secs()));
-    };
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    match output.status.code() {
+    }
+    match run.code {
         Some(0) => Verdict::Translated,
-        Some(1) => Verdict::Refused(corpus::first_error(&stderr)),
-        other => Verdict::Broken(format!("exit status {other:?}: {}", stderr.lines().last().unwrap_or(""))),
+        Some(1) => Verdict::Refused(corpus::first_error(&run.stderr)),
+        other => Verdict::Broken(format!("exit status {other:?}: {}", run.stderr.lines().last().unwrap_or(""))),
     }
 }
 

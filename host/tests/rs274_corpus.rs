@@ -81,18 +81,18 @@ fn compare(file: &Path, entry: &Entry, config: &Path, machine: &Machine) -> Outc
         Err(Refusal::Error(why)) => return Outcome::Rs274Refuses(why),
         Err(Refusal::TimedOut) => return Outcome::Rs274TimedOut,
     };
-    let Some(output) = corpus::translate(file, entry.units(), config, TIME_LIMIT) else {
+    let run = corpus::translate(file, entry.units(), config, TIME_LIMIT);
+    if run.timed_out {
         return Outcome::GerBroken(format!("ger runs for more than {} s", TIME_LIMIT.as_secs()));
-    };
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    match output.status.code() {
+    }
+    match run.code {
         Some(0) => {}
-        Some(1) => return Outcome::GerRefuses(corpus::first_error(&stderr)),
+        Some(1) => return Outcome::GerRefuses(corpus::first_error(&run.stderr)),
         other => {
-            return Outcome::GerBroken(format!("exit status {other:?}: {}", stderr.lines().last().unwrap_or("")));
+            return Outcome::GerBroken(format!("exit status {other:?}: {}", run.stderr.lines().last().unwrap_or("")));
         }
     }
-    let ger = Moves::from_ger(&String::from_utf8_lossy(&output.stdout));
+    let ger = Moves::from_ger(&run.stdout);
     match rs274::compare(&ger, &peer, TOLERANCE_MM) {
         Ok(agreement) => Outcome::Agree(agreement.moves),
         Err(disagreement) => Outcome::Disagree(disagreement.to_string()),

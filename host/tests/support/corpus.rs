@@ -2,8 +2,10 @@
 //! `INDEX.tsv`, and which programs are a 3-axis mill's.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 use std::time::Duration;
+
+use super::process::Finished;
 
 /// Files the index does not mark as other machines' but that are: with why.
 const NOT_A_MILL: [(&str, &str); 4] = [
@@ -124,11 +126,11 @@ pub fn ger_config(dir: &Path) -> PathBuf {
 }
 
 /// Runs `ger run --lenient` on a corpus file in `units` (the program's own)
-/// on the machine of `config`; `None` if it ran for `limit`.
-pub fn translate(file: &Path, units: &str, config: &Path, limit: Duration) -> Option<Output> {
+/// on the machine of `config`, for at most `limit`.
+pub fn translate(file: &Path, units: &str, config: &Path, limit: Duration) -> Finished {
     let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
     command.args(["run", "--lenient", "--units", units, "--config"]).arg(config).arg(file).env("NO_COLOR", "1");
-    super::output_within(&mut command, limit).unwrap()
+    super::process::run(&mut command, limit)
 }
 
 /// ger's first error message, for a table cell.

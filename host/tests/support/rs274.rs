@@ -42,6 +42,8 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
+use super::process::Finished;
+
 /// How far two end points, centres or feeds may be apart, per axis, on top
 /// of the rounding of the digits each side prints.
 pub const TOLERANCE_MM: f64 = 0.002;
@@ -606,29 +608,31 @@ pub fn moves(program: &Path, machine: &Machine, limit: Duration) -> Result<Moves
     // The copy keeps the program's name, which rs274's messages quote.
     let copy = scratch.path().join(program.file_name().unwrap());
     std::fs::write(&copy, numbered(&text, if machine.inches { "G20" } else { "G21" })).unwrap();
-    let output = run(&copy, machine, scratch.path(), limit).ok_or(Refusal::TimedOut)?;
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    let complaint: Vec<&str> = stderr.lines().map(str::trim).filter(|l| !l.is_empty() && *l != "executing").collect();
+    let output = run(&copy, machine, scratch.path(), limit);
+    if output.timed_out {
+        return Err(Refusal::TimedOut);
+    }
+    let complaint: Vec<&str> =
+        output.stderr.lines().map(str::trim).filter(|l| !l.is_empty() && *l != "executing").collect();
     if !complaint.is_empty() {
         // Messages that name the copy name it without the scratch folder, which changes each run.
         let folder = format!("{}/", scratch.path().display());
         return Err(Refusal::Error(complaint.join(" / ").replace(&folder, "")));
     }
-    if !output.status.success() {
-        return Err(Refusal::Error(output.status.to_string()));
+    if output.code != Some(0) {
+        return Err(Refusal::Error(format!("exit status {:?}", output.code)));
     }
-    Ok(Moves::from_rs274(&stdout))
+    Ok(Moves::from_rs274(&output.stdout))
 }
 
 /// Runs `rs274 -g` on `program` as it is, on `machine`, in a scratch folder
-/// of its own; `None` if it ran for `limit`.
-pub fn run_as_is(program: &Path, machine: &Machine, limit: Duration) -> Option<std::process::Output> {
+/// of its own, for at most `limit`.
+pub fn run_as_is(program: &Path, machine: &Machine, limit: Duration) -> Finished {
     let scratch = tempfile::tempdir().unwrap();
     run(program, machine, scratch.path(), limit)
 }
 
-fn run(program: &Path, machine: &Machine, scratch: &Path, limit: Duration) -> Option<std::process::Output> {
+fn run(program: &Path, machine: &Machine, scratch: &Path, limit: Duration) -> Finished {
     // Without an INI file rs274 reads lengths in its tool table and var file in inches.
     let mut tools = String::new();
     for (number, diameter) in &machine.tools {
@@ -653,7 +657,7 @@ fn run(program: &Path, machine: &Machine, scratch: &Path, limit: Duration) -> Op
     // rs274 maps the tool table to $HOME/.tool.mmap and truncates it as it
     // starts: runs sharing a HOME crash each other (SIGBUS). One each.
     command.current_dir(scratch).env("HOME", scratch).args(["-t", "tools.tbl", "-v", "ger.var", "-g"]).arg(program);
-    super::output_within(&mut command, limit).unwrap_or_else(|e| panic!("cannot run rs274: {e}"))
+    super::process::run(&mut command, limit)
 }
 
 /// The program with every line numbered `N<line>` for rs274 to print:
