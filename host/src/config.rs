@@ -60,6 +60,9 @@ pub struct MachineSettings {
     /// The feed (machine units per minute) of a feed move before any F
     /// (lenient dialect): default none, so such a move is an error.
     pub default_feed: Option<f64>,
+    /// How far the arcs and lines a spline (lenient G5, G5.1, G5.2) becomes
+    /// may stray from it, in machine units: default 0.001 in or 0.02 mm.
+    pub spline_tolerance: Option<f64>,
 }
 
 impl Default for MachineSettings {
@@ -71,6 +74,7 @@ impl Default for MachineSettings {
             home: None,
             rapid_rate: None,
             default_feed: None,
+            spline_tolerance: None,
         }
     }
 }
@@ -388,6 +392,14 @@ impl Config {
         if machine.rapid_rate.is_some_and(|r| !(r > 0.0 && r.is_finite())) {
             return Err(Diagnostic::error(at_key("rapid_rate"), "[machine] rapid_rate must be above zero"));
         }
+        let least = self.least_spline_tolerance();
+        if machine.spline_tolerance.is_some_and(|t| !(t >= least && t.is_finite())) {
+            let (u, d) = (self.units.abbreviation(), self.units.decimals());
+            return Err(Diagnostic::error(
+                at_key("spline_tolerance"),
+                format!("[machine] spline_tolerance must be at least {least:.d$} {u}, twice the output's resolution"),
+            ));
+        }
         if self.check.min_arc_radius.is_some_and(|r| !(r >= 0.0 && r.is_finite())) {
             return Err(Diagnostic::error(at_key("min_arc_radius"), "[check] min_arc_radius must be zero or more"));
         }
@@ -421,6 +433,19 @@ impl Config {
             Units::Inch => 200.0,
             Units::Mm => 5000.0,
         })
+    }
+
+    /// How far a spline's arcs and lines may stray from it, in machine units.
+    pub fn spline_tolerance(&self) -> f64 {
+        self.machine.spline_tolerance.unwrap_or(match self.units {
+            Units::Inch => 0.001,
+            Units::Mm => 0.02,
+        })
+    }
+
+    /// The output rounds coordinates to its last decimal: a tolerance must leave room for that.
+    fn least_spline_tolerance(&self) -> f64 {
+        2.0 * 10f64.powi(-(self.units.decimals() as i32))
     }
 
     pub fn min_arc_radius(&self) -> f64 {
@@ -527,6 +552,8 @@ tip_angle = 90
             ("[stock]\norigin = [1, 0, 1]\n", 2, "needs a size"),
             ("[stock]\nmargin = -1\n", 2, "zero or more"),
             ("[render]\nscale = 0\n", 2, "above zero"),
+            ("[machine]\nspline_tolerance = 0.0001\n", 2, "at least 0.0002 in"),
+            ("units = \"mm\"\n[machine]\nspline_tolerance = -1\n", 3, "at least 0.002 mm"),
             ("[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 1\ntip_angle = 180\n", 5, "tip_angle"),
         ] {
             let err = Config::from_toml(text).unwrap_err();

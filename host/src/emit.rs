@@ -180,6 +180,20 @@ impl Emitter {
                 self.axes(out, "XYZ", &m.target);
                 self.value(out, 'F', m.feed);
             }
+            Kind::Spline(spline) => {
+                if let Some(code) = spline.code {
+                    out.push_str(code.code());
+                }
+                self.axes(out, "XYZ", &spline.target);
+                self.axes(out, "IJ", &spline.first);
+                self.axes(out, "PQ", &spline.second);
+                self.value(out, 'P', spline.weight);
+                if let Some(order) = spline.order {
+                    let _ = write!(out, " L{order}");
+                }
+                self.value(out, 'F', spline.feed);
+            }
+            Kind::NurbsEnd => out.push_str("G5.3"),
             Kind::SetWorkOffset { entry, axes, relative } => {
                 let _ = write!(out, "G10 L{} P{entry}", if *relative { 20 } else { 2 });
                 self.axes(out, "XYZ", axes);

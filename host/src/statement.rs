@@ -375,6 +375,51 @@ pub enum Retract {
     RPlane,
 }
 
+/// The lenient dialect's splines (LinuxCNC's), in the XY plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SplineCode {
+    /// G5: a cubic Bézier curve.
+    Cubic,
+    /// G5.1: a quadratic Bézier curve.
+    Quadratic,
+    /// G5.2: a NURBS control point (the curve is drawn at G5.3).
+    Nurbs,
+}
+
+impl SplineCode {
+    pub fn code(self) -> &'static str {
+        match self {
+            SplineCode::Cubic => "G05",
+            SplineCode::Quadratic => "G5.1",
+            SplineCode::Nurbs => "G5.2",
+        }
+    }
+}
+
+/// The most control points one NURBS may have: they are kept until its G5.3.
+pub const MAX_NURBS_POINTS: usize = 10_000;
+/// The highest order a NURBS may have (LinuxCNC sets no limit).
+pub const MAX_NURBS_ORDER: u32 = 16;
+
+/// A spline statement (lenient dialect), with LinuxCNC's words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spline {
+    /// `None`: a line of X Y P with no code, which pass 00 makes the next
+    /// control point of the NURBS in force.
+    pub code: Option<SplineCode>,
+    /// X, Y: the end (G5, G5.1), or a control point (G5.2). Never Z.
+    pub target: Axes,
+    /// I, J (as x, y): the first control point, relative to the start (G5, G5.1).
+    pub first: Axes,
+    /// P, Q (as x, y): G5's second control point, relative to the end.
+    pub second: Axes,
+    /// P: a NURBS control point's weight (G5.2).
+    pub weight: Option<Value>,
+    /// L: the NURBS's order (G5.2).
+    pub order: Option<u32>,
+    pub feed: Option<Value>,
+}
+
 /// G28 goes to machine zero, G30 to the configured second reference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Reference {
@@ -487,6 +532,10 @@ pub enum Kind {
     ArcCentres(Distance),
     /// G28.1 / G30.1: the reference point becomes where the tool is.
     SetReference(Reference),
+    /// G5, G5.1, G5.2 and its control points.
+    Spline(Box<Spline>),
+    /// G5.3: the end of a NURBS, which is drawn here.
+    NurbsEnd,
     /// G10 L2 (`relative` false): entry `entry` of the work-offsets table (0:
     /// the one in force) is set to the given machine coordinates; G10 L20
     /// (`relative`): set so that the current position reads as given.

@@ -14,7 +14,7 @@ use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
     Axes, Cycle, CycleCode, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference,
-    Retract, Side, Statement, Units, Value, WizardArg,
+    Retract, Side, Spline, SplineCode, Statement, Units, Value, WizardArg, MAX_NURBS_ORDER,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
@@ -336,6 +336,12 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 530) => Some("XYZF"),
         ('G', 640) => Some("PQ"),
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => Some("XYZRQPLKF"),
+        // The splines take every word a move might, so that a wrong one is
+        // refused by name rather than made a move of its own.
+        ('G', 50) => Some("XYZIJKRPQF"),
+        ('G', 51) => Some(ARC_WORDS),
+        ('G', 52) => Some("XYZIJKRPQLF"),
+        ('G', 53) => Some(""),
         // M19's angle, timeout and direction go with it when it is dropped.
         ('M', 190) => Some("RQP"),
         // G54.1 Pn (Fanuc) and G154 Pn (Haas): the extended work offsets.
@@ -377,6 +383,10 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
                 return Err(unknown_letter(*letter, value.span));
             }
             match words.list[0] {
+                // A line of X Y P (or L) continues a NURBS (G5.2), if one is in force.
+                _ if dialect == Dialect::Lenient && words.has_any("PL") && words.has_any("XYZ") => {
+                    Kind::Spline(Box::new(spline(None, span, &words)?))
+                }
                 _ if words.has_any(ARC_WORDS) => {
                     words.only(ARC_WORDS, "a move")?;
                     Kind::Motion(Box::new(motion(None, &words, dialect)?))
@@ -617,6 +627,10 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
             Kind::Cycle(Box::new(cycle(number, span, words)?))
         }
+        ('G', 50) => Kind::Spline(Box::new(spline(Some(SplineCode::Cubic), span, words)?)),
+        ('G', 51) => Kind::Spline(Box::new(spline(Some(SplineCode::Quadratic), span, words)?)),
+        ('G', 52) => Kind::Spline(Box::new(spline(Some(SplineCode::Nurbs), span, words)?)),
+        ('G', 53) => Kind::NurbsEnd,
         ('M', 970 | 1980) => return Err(lenient_refusal(letter, number, name, span)),
         ('M', n) if n.is_multiple_of(10) => {
             Kind::PassThrough { code: n, words: words.list.iter().map(|(l, v)| (*l, v.value)).collect() }
@@ -661,6 +675,100 @@ fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
         return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
     }
     Ok(Cycle { code, target, r: words.get('R'), q, p: words.get('P'), repeat, feed: words.get('F') })
+}
+
+/// G5, G5.1 and G5.2 with LinuxCNC's rules for their words; `None`: a line
+/// of X Y P, the next control point if a NURBS (G5.2) is in force.
+fn spline(code: Option<SplineCode>, span: Span, words: &Words) -> Result<Spline, Diagnostic> {
+    let name = code.map_or("a NURBS control point", SplineCode::code);
+    if let Some(z) = words.get('Z') {
+        return Err(Diagnostic::error(z.span, "splines may not move in Z").with_help(
+            "G05, G5.1 and G5.2 draw in the XY plane at the tool's Z: move Z with G01 before or after the curve",
+        ));
+    }
+    let allowed = match code {
+        Some(SplineCode::Cubic) => "XYIJPQF",
+        Some(SplineCode::Quadratic) => "XYIJF",
+        _ => "XYPLF",
+    };
+    // Q is a word of the lenient dialect's, not one that ger does not know.
+    if let Some(q) = words.get('Q').filter(|_| !allowed.contains('Q')) {
+        return Err(Diagnostic::error(q.span, format!("Q is not allowed with {name}"))
+            .with_help("Q goes with G05: the Y of its second control point, from the end"));
+    }
+    words.only(allowed, name)?;
+    if let Some(f) = words.get('F').filter(|f| f.value <= 0.0) {
+        return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
+    }
+    let pair = |a: char, b: char| Axes { x: words.get(a), y: words.get(b), z: None };
+    let mut spline = Spline {
+        code,
+        target: words.axes("XYZ"),
+        first: Axes::default(),
+        second: Axes::default(),
+        weight: None,
+        order: None,
+        feed: words.get('F'),
+    };
+    // Of two words that go together, the one given when the other is not.
+    let lone = |a: char, b: char| match (words.get(a), words.get(b)) {
+        (Some(v), None) | (None, Some(v)) => Some(v),
+        _ => None,
+    };
+    match code {
+        Some(SplineCode::Cubic) => {
+            if words.get('P').is_none() || words.get('Q').is_none() {
+                return Err(Diagnostic::error(
+                    span,
+                    "G05 needs both P and Q: the second control point, relative to the end",
+                )
+                .with_help("write e.g. G05 I1 J0 P-1 Q0 X2 Y1; I and J may be left out after another G05"));
+            }
+            if let Some(v) = lone('I', 'J') {
+                return Err(Diagnostic::error(v.span, "G05 takes both I and J, or neither").with_help(
+                    "I and J place the first control point from the start; without them it mirrors the G05 before",
+                ));
+            }
+            spline.first = pair('I', 'J');
+            spline.second = pair('P', 'Q');
+        }
+        Some(SplineCode::Quadratic) => {
+            if words.get('I').is_none() || words.get('J').is_none() {
+                return Err(Diagnostic::error(
+                    span,
+                    "G5.1 needs both I and J: the control point, relative to the start",
+                )
+                .with_help("write e.g. G5.1 I1 J1 X2 Y0"));
+            }
+            spline.first = pair('I', 'J');
+        }
+        _ => {
+            if let Some(v) = lone('X', 'Y') {
+                return Err(Diagnostic::error(v.span, "a NURBS control point needs both X and Y")
+                    .with_help("write e.g. X1 Y2 P1"));
+            }
+            let weight = words.get('P');
+            if let Some(p) = weight.filter(|p| p.value <= 0.0) {
+                return Err(Diagnostic::error(p.span, "a NURBS control point's weight (P) must be greater than zero"));
+            }
+            if weight.is_none() && !spline.target.is_empty() {
+                return Err(Diagnostic::error(span, "a NURBS control point needs a weight P greater than zero")
+                    .with_help("write e.g. X1 Y2 P1: P1 is a plain point, more pulls the curve towards it"));
+            }
+            if let (Some(order), Some(l)) = (words.whole('L')?, words.get('L')) {
+                if !(3..=MAX_NURBS_ORDER).contains(&order) {
+                    return Err(Diagnostic::error(
+                        l.span,
+                        format!("a NURBS's order (L) must be from 3 to {MAX_NURBS_ORDER}, not {order}"),
+                    )
+                    .with_help("L3, the default, is a quadratic curve, L4 a cubic; LinuxCNC reads an L below 3 as 3"));
+                }
+                spline.order = Some(order);
+            }
+            spline.weight = weight;
+        }
+    }
+    Ok(spline)
 }
 
 /// What the lenient dialect still refuses, with why.

@@ -23,7 +23,7 @@ use crate::diag::{Diagnostic, Origin, Span};
 use crate::expand::{Call, Wizards};
 use crate::parse::Event;
 use crate::state::Probe;
-use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, Statement};
+use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, SplineCode, Statement};
 
 /// How deep subprogram calls may nest before ger calls it runaway recursion.
 pub const MAX_CALL_DEPTH: usize = 32;
@@ -133,6 +133,16 @@ pub struct Subprograms<'a, I> {
     motion: MotionMode,
     /// The canned cycle a bare position repeats, until G80 or a motion code.
     cycle: Option<CycleCode>,
+    /// After a spline code (lenient), what a line without a motion code is.
+    after_spline: Option<AfterSpline>,
+}
+
+/// As in LinuxCNC, G5.2 makes each line of X Y P a control point of its
+/// NURBS, while G5, G5.1 and G5.3 leave no motion mode in force.
+#[derive(Clone, Copy)]
+enum AfterSpline {
+    Nurbs,
+    NoMode(&'static str),
 }
 
 impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
@@ -153,6 +163,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             pending: None,
             motion: MotionMode::Rapid,
             cycle: None,
+            after_spline: None,
         }
     }
 
@@ -322,13 +333,14 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 }
             }
             Kind::Motion(motion) => {
-                if let Err(diagnostic) = self.check_bare_words(motion) {
+                if let Err(diagnostic) = self.check_bare_words(motion, statement.span) {
                     return Some(error(&statement, diagnostic));
                 }
                 match (motion.mode, self.cycle) {
                     (Some(mode), _) => {
                         self.motion = mode;
                         self.cycle = None;
+                        self.after_spline = None;
                     }
                     // In a series of canned cycles, a bare position is one more hole.
                     (None, Some(code)) if motion.moves() => {
@@ -353,6 +365,32 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             }
             Kind::Cycle(cycle) => {
                 self.cycle = Some(cycle.code);
+                self.after_spline = None;
+                Some(Event::Statement(statement))
+            }
+            Kind::Spline(spline) => {
+                match (spline.code, self.after_spline) {
+                    (Some(code), _) => {
+                        self.after_spline = Some(match code {
+                            SplineCode::Nurbs => AfterSpline::Nurbs,
+                            _ => AfterSpline::NoMode(code.code()),
+                        });
+                        self.cycle = None;
+                    }
+                    (None, Some(AfterSpline::Nurbs)) => spline.code = Some(SplineCode::Nurbs),
+                    (None, _) => {
+                        let (letter, word) = spline.weight.map_or(('L', statement.span), |p| ('P', p.span));
+                        let message = format!("{letter} is not used by {}, the motion mode in force", self.mode_name());
+                        let diagnostic = Diagnostic::error(word, message)
+                            .with_help("lines of X Y P are the control points of a NURBS: they follow G5.2");
+                        return Some(error(&statement, diagnostic));
+                    }
+                }
+                Some(Event::Statement(statement))
+            }
+            Kind::NurbsEnd => {
+                self.after_spline = Some(AfterSpline::NoMode("G5.3"));
+                self.cycle = None;
                 Some(Event::Statement(statement))
             }
             // G80 ends the series; the others change nothing a later pass needs.
@@ -367,14 +405,38 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
 }
 
 impl<I> Subprograms<'_, I> {
+    /// The code a line without one moves by, for messages.
+    fn mode_name(&self) -> &'static str {
+        match (self.after_spline, self.cycle) {
+            (Some(AfterSpline::NoMode(code)), _) => code,
+            (Some(AfterSpline::Nurbs), _) => "G5.2",
+            (None, Some(cycle)) => cycle.code(),
+            (None, None) => self.motion.code(),
+        }
+    }
+
     /// A line with no G code moves in the mode in force, which may have no use
     /// for some of its words: I, J, K and R belong to arcs, a canned cycle has
     /// no centre, and it repeats only at a new position. Dropping such a word
     /// would hide a mistake, and writing it out would put R on a G00, so it is
     /// an error, as in LinuxCNC ("R word with no g code that uses it").
-    fn check_bare_words(&self, motion: &Motion) -> Result<(), Diagnostic> {
+    fn check_bare_words(&self, motion: &Motion, span: Span) -> Result<(), Diagnostic> {
         if motion.mode.is_some() {
             return Ok(());
+        }
+        match self.after_spline {
+            Some(AfterSpline::Nurbs) if motion.moves() => {
+                return Err(Diagnostic::error(span, "a NURBS control point needs a weight P greater than zero")
+                    .with_help("G5.2 is in force: write e.g. X1 Y2 P1, or a motion code for a move of another kind"));
+            }
+            Some(AfterSpline::NoMode(code)) if motion.moves() => {
+                return Err(Diagnostic::error(
+                    span,
+                    format!("a move with no motion code after {code}, which leaves none in force"),
+                )
+                .with_help("write the motion code on this line, e.g. G01; only G5.2 goes on in lines of X Y P"));
+            }
+            _ => {}
         }
         let centre = (0..3).find_map(|axis| motion.centre.get(axis).map(|v| (["I", "J", "K"][axis], v)));
         let radius = motion.radius.map(|v| ("R", v));

@@ -1,6 +1,7 @@
 //! Pass 01: units. G20/G21 say what unit the program is written in; this pass
 //! converts every length (X Y Z, I J K, R, F, G52/G92 values, G43/G44 Z) to
-//! the machine's unit and drops the G20/G21 statements. Until the program says
+//! the machine's unit and drops the G20/G21 statements; splines' points and
+//! offsets are lengths too. Until the program says
 //! otherwise it is taken to be in the machine's unit. In polar mode (G16) the
 //! word for the plane's second axis is an angle, and stays as it is. The units
 //! may not change while cutter radius compensation (G41/G42) is on: the radius
@@ -64,6 +65,13 @@ impl Pass for Units {
             Kind::MachineMove(m) => {
                 m.target = m.target.map(|_, v| v * factor);
                 scale(&mut m.feed);
+            }
+            // A NURBS weight is not a length; G5's P and Q (in `second`) are.
+            Kind::Spline(spline) => {
+                for axes in [&mut spline.target, &mut spline.first, &mut spline.second] {
+                    *axes = axes.map(|_, v| v * factor);
+                }
+                scale(&mut spline.feed);
             }
             Kind::Cycle(cycle) => {
                 cycle.target = cycle.target.map(|_, v| v * factor);

@@ -2,8 +2,8 @@
 //! this pass adds the current PRZ to every absolute coordinate, so the output
 //! is relative to machine zero, and drops the offset statements. In the
 //! lenient dialect it also takes G10 L2/L20 (which rewrite the work-offsets
-//! table), and puts canned cycles and G28/G30's intermediate points in
-//! machine coordinates; G53 moves are in them already.
+//! table), and puts canned cycles, splines and G28/G30's intermediate points
+//! in machine coordinates; G53 moves are in them already.
 //!
 //! None of these codes may be used in polar (G16), incremental (G91) or
 //! cutter comp (G41/G42) mode. G92 and G10 L20 need the tool's position: they
@@ -172,6 +172,13 @@ impl Pass for Offsets {
                 *via = self.to_machine(*via);
             }
             Kind::MachineMove(_) if self.comp => return out.error(&statement, comp_refuses("G53")),
+            // As in LinuxCNC ("Cannot convert spline with cutter radius compensation").
+            Kind::Spline(spline) if self.comp => {
+                let code = spline.code.map_or("G5.2", |c| c.code());
+                return out.error(&statement, comp_refuses(code));
+            }
+            Kind::NurbsEnd if self.comp => return out.error(&statement, comp_refuses("G5.3")),
+            Kind::Spline(spline) => spline.target = self.to_machine(spline.target),
             _ => {}
         }
         out.push(statement);

@@ -4,7 +4,8 @@
 //! arc, R < 0 the long one); a full circle needs I/J/K; the end must lie on
 //! the circle. This pass also settles the feed: a feed move needs an F before
 //! it, F is written on the first feed move after it changes, and a statement
-//! that only sets F disappears.
+//! that only sets F disappears. The lenient dialect's canned cycles
+//! (`cycles.rs`) and splines (`splines.rs`) become plain moves here.
 
 use super::{Out, Pass};
 use crate::config::Config;
@@ -16,6 +17,7 @@ use crate::statement::{
 };
 
 mod cycles;
+mod splines;
 
 pub struct Absolute {
     units: Units,
@@ -43,6 +45,7 @@ pub struct Absolute {
     speed: Option<f64>,
     selected_tool: Option<u32>,
     cycles: cycles::CycleState,
+    splines: splines::SplineState,
     /// G43 (true) or G44 (false) in force, for an H word given alone.
     tool_length: Option<bool>,
     /// Where the A, B and C words have put the rotary axes, once said.
@@ -72,6 +75,7 @@ impl Absolute {
             speed: None,
             selected_tool: None,
             cycles: cycles::CycleState::default(),
+            splines: splines::SplineState::new(config),
             tool_length: None,
             rotary: [None; 3],
             warned_rotary: false,
@@ -227,6 +231,7 @@ impl Absolute {
             }
         }
         self.position = end;
+        self.splines.series = None;
         Ok(true)
     }
 
@@ -342,6 +347,7 @@ fn nearest_equidistant(start: (f64, f64), end: (f64, f64), centre: (f64, f64)) -
 
 impl Pass for Absolute {
     fn statement(&mut self, statement: Statement, out: &mut Out) {
+        self.close_nurbs_before(&statement, out);
         let origin = statement.origin.clone();
         self.rewrite(statement, out);
         for warning in self.warnings.drain(..) {
@@ -357,6 +363,10 @@ impl Pass for Absolute {
         }
         more
     }
+
+    fn finish(&mut self, out: &mut Out) {
+        self.unfinished_nurbs(out);
+    }
 }
 
 impl Absolute {
@@ -371,6 +381,17 @@ impl Absolute {
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
         if let Kind::Cycle(cycle) = &statement.kind {
             if let Err(diagnostic) = self.cycle(cycle, &statement) {
+                out.error(&statement, diagnostic);
+            }
+            return;
+        }
+        let drawn = match &statement.kind {
+            Kind::Spline(spline) => Some(self.spline(spline, &statement, out)),
+            Kind::NurbsEnd => Some(self.nurbs_end(&statement, out)),
+            _ => None,
+        };
+        if let Some(result) = drawn {
+            if let Err(diagnostic) = result {
                 out.error(&statement, diagnostic);
             }
             return;
@@ -512,6 +533,7 @@ impl Absolute {
             motion.feed = self.feed.map(|value| Value { value, span: statement.span });
         }
         self.position = target;
+        self.splines.series = None;
         out.push(statement.with_kind(Kind::Motion(Box::new(motion))));
     }
 

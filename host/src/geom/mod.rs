@@ -1,5 +1,10 @@
 //! Plane geometry shared by the passes and the simulation: polar moves, arc
-//! centres and sweeps.
+//! centres and sweeps here; curves given by control points (`spline`) and
+//! their approximation by arcs and lines (`fit`) in their own modules.
+//! Nothing here knows statements.
+
+pub mod fit;
+pub mod spline;
 
 /// The in-plane step of a polar move: `radius` along `angle` degrees,
 /// counter-clockwise from the plane's first axis.
