@@ -127,7 +127,6 @@ pub struct Subprograms<'a, I> {
     seen_first_statement: bool,
     ended: bool,
     warned_after_end: bool,
-    warned_m99: bool,
     /// An event to hand out before reading on.
     pending: Option<Event>,
     motion: MotionMode,
@@ -159,7 +158,6 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             seen_first_statement: false,
             ended: false,
             warned_after_end: false,
-            warned_m99: false,
             pending: None,
             motion: MotionMode::Rapid,
             cycle: None,
@@ -226,16 +224,13 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     .with_help("after M30, only subprograms (O... to M99) belong in the file");
                 Some(Event::Diagnostic(diagnostic))
             }
-            // Fanuc and Haas rewind the main program at its M99 and run it
-            // again: the lenient dialect reads it as M47.
+            // A subprogram's file run on its own: LinuxCNC ends the program at
+            // its M99, as the lenient dialect does; Fanuc and Haas would rewind.
             Kind::Return if self.runtime.config.dialect.name == Dialect::Lenient => {
-                let message = "M99 in the main program runs it again from the start, as M47 does";
-                let help = "the program is read again [machine] m47_repeats times (default 1), then it ends";
-                if !std::mem::replace(&mut self.warned_m99, true) {
-                    self.pending =
-                        Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
-                }
-                self.main_statement(statement.with_kind(Kind::Repeat))
+                let message = "M99 in the main program ends it here";
+                let help = "a Fanuc or Haas would run the program again: write M30 to end it, or M47 to repeat it";
+                self.pending = Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
+                self.main_statement(statement.with_kind(Kind::End))
             }
             Kind::Return => {
                 let diagnostic = Diagnostic::error(statement.span, "M99 outside a subprogram")
