@@ -38,10 +38,9 @@ pub fn load(engine: &Engine, wasm: &[u8], cache: &Path) -> wasmtime::Result<Comp
 /// file or none.
 fn store(cache: &Path, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     std::fs::create_dir_all(cache)?;
-    let mut temp = tempfile::NamedTempFile::new_in(cache)?;
-    std::io::Write::write_all(&mut temp, bytes)?;
-    temp.persist(path)?;
-    Ok(())
+    let mut output = crate::output::OutputFile::create(path)?;
+    std::io::Write::write_all(&mut output, bytes)?;
+    output.commit()
 }
 
 /// SHA-256 of the wasm and of what makes a compilation valid for `engine`.

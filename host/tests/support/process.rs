@@ -26,9 +26,15 @@ pub struct Finished {
 pub fn run(command: &mut Command, wall_limit: Duration) -> Finished {
     let out = tempfile::tempfile().unwrap();
     let err = tempfile::tempfile().unwrap();
-    let child =
-        command.stdin(Stdio::null()).stdout(out.try_clone().unwrap()).stderr(err.try_clone().unwrap()).spawn().unwrap();
-    let pid = child.id() as libc::pid_t;
+    // Reaped by wait4 below, which gives the usage std's wait does not.
+    #[allow(clippy::zombie_processes)]
+    let pid = command
+        .stdin(Stdio::null())
+        .stdout(out.try_clone().unwrap())
+        .stderr(err.try_clone().unwrap())
+        .spawn()
+        .unwrap()
+        .id() as libc::pid_t;
     let started = Instant::now();
     let mut timed_out = false;
     let mut status = 0;
