@@ -21,8 +21,6 @@ pub struct Finished {
 
 /// Runs `command` to its end (killing it after `wall_limit`), its standard
 /// output and error going to files so that neither pipe can fill and block it.
-// wait4 reaps the child below (std's Child::wait cannot return its resource usage).
-#[allow(clippy::zombie_processes)]
 pub fn run(command: &mut Command, wall_limit: Duration) -> Finished {
     let out = tempfile::tempfile().unwrap();
     let err = tempfile::tempfile().unwrap();
