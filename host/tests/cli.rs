@@ -311,3 +311,21 @@ mod files {
         }
     }
 }
+
+#[test]
+fn a_program_kept_in_a_file_of_its_own_is_called_by_its_number() {
+    // As a Haas keeps O1002 in its memory, a file beside the program holds it.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("main.nc"), "O1001\nG21\nG00 X0 Y0\nM98 P1002 L2\nM30\n").unwrap();
+    std::fs::write(dir.path().join("bracket_o1002.nc"), "O1002 (a step)\nG91 G01 X5 F100\nG90\nM99\n").unwrap();
+    // A file whose name has the number but whose program is another is not it.
+    std::fs::write(dir.path().join("O1002-old.nc"), "O7\nG00 X99\nM99\n").unwrap();
+    let output = ger(dir.path(), &["run", "main.nc", "--lenient", "--units", "mm"], "");
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let moves: Vec<String> = text(&output.stdout).lines().filter(|l| l.contains("G01")).map(String::from).collect();
+    // Its lines carry the call's line, as a wizard's do.
+    assert_eq!(moves, ["N4 G01 X5.000 F100.000", "N4 G01 X10.000"]);
+    // The strict dialect keeps to the manual: subprograms are in the program.
+    let output = ger(dir.path(), &["run", "main.nc", "--units", "mm"], "");
+    assert!(text(&output.stderr).contains("error: M98 calls O1002, which is not in the program"));
+}

@@ -215,7 +215,10 @@ impl Input {
 
     fn dir(&self) -> PathBuf {
         match self {
-            Input::File(path) => path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+            Input::File(path) => match path.parent() {
+                Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+                _ => PathBuf::from("."),
+            },
             Input::Stdin(_) => PathBuf::from("."),
             Input::Text { dir, .. } => dir.clone(),
         }
@@ -288,8 +291,46 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
 /// The subprograms of `input`, found by reading it again when a call names
 /// one not seen yet; and the program itself again, for M47.
 fn library<'a>(input: &'a Input, dialect: &'a DialectConfig) -> Library<'a> {
-    Library::scanning(move || Library::scan(input.open(), dialect))
-        .with_restart(move || Box::new(passes::parse(input.open(), dialect)))
+    let library = Library::scanning(move || Library::scan(input.open(), dialect))
+        .with_restart(move || Box::new(passes::parse(input.open(), dialect)));
+    match dialect.name {
+        Dialect::Lenient => library.with_files(move |number| program_file(&input.dir(), number, dialect)),
+        Dialect::Strict => library,
+    }
+}
+
+/// A program kept in a file of its own beside the calling one, as a Fanuc or
+/// Haas keeps programs by number: a G-code file whose name holds the number
+/// (`O1002.nc`, `o01002.tap`, `bracket_o1002.cnc`) and whose first O word is it.
+fn program_file(dir: &Path, number: u32, dialect: &DialectConfig) -> Option<(String, passes::Body)> {
+    const EXTENSIONS: [&str; 7] = ["nc", "ngc", "tap", "cnc", "gcode", "txt", ""];
+    let mut candidates: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| {
+            let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            path.is_file() && EXTENSIONS.contains(&extension.as_str()) && names_program(stem, number)
+        })
+        .collect();
+    candidates.sort();
+    candidates.into_iter().find_map(|path| {
+        let file = File::open(&path).ok()?;
+        let body = Library::scan_file(BufReader::new(file), number, dialect)?;
+        Some((path.file_name()?.to_string_lossy().into_owned(), body))
+    })
+}
+
+/// Whether a file's name ends with program `number`: `O1002`, `1002`,
+/// `O01002`, `part-o1002`.
+fn names_program(stem: &str, number: u32) -> bool {
+    let stem = stem.to_ascii_lowercase();
+    let digits = stem.len() - stem.trim_end_matches(|c: char| c.is_ascii_digit()).len();
+    let (head, tail) = stem.split_at(stem.len() - digits);
+    let head = head.strip_suffix('o').unwrap_or(head);
+    digits > 0
+        && tail.parse::<u32>() == Ok(number)
+        && (head.is_empty() || !head.ends_with(|c: char| c.is_ascii_alphanumeric()))
 }
 
 pub(crate) fn styled() -> bool {

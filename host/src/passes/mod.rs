@@ -29,8 +29,8 @@ pub mod p03_polar;
 pub mod p04_absolute;
 pub mod p05_cutter_comp;
 
-pub use p00_subprograms::Library;
 use p00_subprograms::WizardRuntime;
+pub use p00_subprograms::{Body, Library};
 
 /// A pass that rewrites one statement at a time.
 pub trait Pass {

@@ -30,7 +30,7 @@ pub const MAX_CALL_DEPTH: usize = 32;
 /// How deep wizard calls may nest (a wizard whose output calls a wizard ...).
 pub const MAX_WIZARD_DEPTH: usize = 16;
 
-type Body = Arc<Vec<Statement>>;
+pub type Body = Arc<Vec<Statement>>;
 
 /// The subprograms a program can call.
 pub struct Library<'a> {
@@ -40,12 +40,13 @@ pub struct Library<'a> {
     reopen: Option<Reopen<'a>>,
     /// Finds a program kept in a file of its own, as a Fanuc or Haas keeps
     /// programs in its memory by number: the file's name and the body.
-    files: Option<Box<dyn FnMut(u32) -> Option<(String, Body)> + 'a>>,
+    files: Option<FindFile<'a>>,
     /// The programs found in files, and the files' names.
     found: HashMap<u32, (String, Body)>,
 }
 
 type Reopen<'a> = Box<dyn FnMut() -> Box<dyn Iterator<Item = Event> + 'a> + 'a>;
+type FindFile<'a> = Box<dyn FnMut(u32) -> Option<(String, Body)> + 'a>;
 
 /// A subprogram to run: its body, and the file it came from if it is not
 /// in the program itself.
@@ -321,12 +322,11 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                             .with_help(help);
                     return Some(error(&statement, diagnostic));
                 };
-                if let Some(file) = &file {
+                if file.is_some() {
                     // Its lines are another file's: they say where the call is, as a wizard's do.
                     let mut statements = body.to_vec();
                     statements.iter_mut().for_each(|s| s.span = statement.span);
                     body = Arc::new(statements);
-                    let _ = file;
                 }
                 if repeat > 0 {
                     let what = match &file {

@@ -367,13 +367,29 @@ impl CutterComp {
                     return;
                 };
                 // LinuxCNC (and Fanuc's start-up) cut a straight first move
-                // from where the tool is to its end's offset point: the
-                // lenient dialect does too. The manual steps out first.
-                if let (Dialect::Lenient, Segment::Line { start, .. }) = (self.dialect, path) {
-                    let entry = Segment::Line { start, end: offset.end() };
-                    let held = Box::new(hold(statement, step, entry, start));
-                    self.state = State::On { comp, held };
-                    return;
+                // from where the tool is to its offset path's end (or where
+                // that path meets the next move's): the lenient dialect does
+                // too. The manual steps out first.
+                // A first arc runs from where the tool is to its offset's
+                // end about a centre moved along the end's radius, so that
+                // both ends are on it (LinuxCNC's arc entry).
+                if self.dialect == Dialect::Lenient {
+                    let entry = match path {
+                        Segment::Line { start, .. } => Some((start, offset)),
+                        Segment::Arc { start, centre, ccw, .. } => {
+                            let end = offset.end();
+                            let along = (end - centre).unit();
+                            let chord = end - start;
+                            let shift = ((end - centre).dot(end - centre) - (start - centre).dot(start - centre))
+                                / (2.0 * along.dot(chord));
+                            shift.is_finite().then(|| (start, Segment::arc(start, end, centre + along * shift, ccw)))
+                        }
+                    };
+                    if let Some((start, entry)) = entry {
+                        let held = Box::new(hold(statement, step, entry, start));
+                        self.state = State::On { comp, held };
+                        return;
+                    }
                 }
                 // The step out runs at the first move's speed: a rapid, or
                 // a feed move taking the feed the first move brings.
