@@ -624,6 +624,21 @@ fn the_compile_cache_runs_only_what_this_users_ger_compiled_from_that_wasm() {
     // Signed with another user's key.
     compiled_again(&entry, &key_b);
 
+    // A link to a file elsewhere is replaced, not written through; a FIFO (which
+    // would block a reader for ever) is replaced too.
+    let outside = temp.path().join("outside");
+    std::fs::write(&outside, "not ger's").unwrap();
+    std::fs::remove_file(&nest).unwrap();
+    std::os::unix::fs::symlink(&outside, &nest).unwrap();
+    nest_ran(&key_a);
+    assert_eq!(std::fs::read_to_string(&outside).unwrap(), "not ger's");
+    assert!(std::fs::symlink_metadata(&nest).unwrap().is_file());
+    std::fs::remove_file(&nest).unwrap();
+    let made = std::process::Command::new("mkfifo").arg(&nest).status().unwrap();
+    assert!(made.success());
+    nest_ran(&key_a);
+    assert!(std::fs::symlink_metadata(&nest).unwrap().is_file());
+
     // Where no key can be made (its folder would be under a file), nothing is cached.
     std::fs::remove_dir_all(&cache).unwrap();
     let blocked = temp.path().join("file");

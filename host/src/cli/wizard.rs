@@ -1,6 +1,6 @@
 //! `ger wizard new|build|list`, and `ger run --watch`.
 
-use std::io::{self, IsTerminal};
+use std::io::{self, IsTerminal, Write};
 use std::path::{Component, Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -14,6 +14,7 @@ use crate::diag::clip;
 use crate::expand::build::{self, Progress, Source};
 use crate::expand::catalog::{self, Catalog};
 use crate::expand::{Wizards, SHOWN_MESSAGE};
+use crate::output::OutputFile;
 
 #[derive(Subcommand)]
 pub enum WizardCommand {
@@ -186,8 +187,9 @@ fn new(name: &str, dir: &Path) -> Result<i32, String> {
     })?;
     let write = |path: &Path, text: &str| {
         std::fs::create_dir_all(path.parent().expect("a file in a folder"))
-            .and_then(|()| std::fs::write(path, text))
-            .map_err(|err| plain_error(&format!("cannot write {}: {err}", path.display()), None))
+            .and_then(|()| OutputFile::create(path))
+            .and_then(|mut output| output.write_all(text.as_bytes()).and_then(|()| output.commit()))
+            .map_err(|err| super::cannot_write(path, &err))
     };
     std::fs::create_dir_all(&folder)
         .map_err(|err| plain_error(&format!("cannot create {}: {err}", folder.display()), None))?;

@@ -119,7 +119,9 @@ pub fn load(
     };
     let engine_digest = engine_digest(engine);
     let path = cache.join(format!("{}.cwasm", name(&engine_digest, digest)));
-    if let Some(component) = verified(engine, &path, key, &engine_digest, digest) {
+    // Compiled code is a few times the size of its .wasm; a bigger entry is not read.
+    let largest = wasm.len() as u64 * 32 + (16 << 20);
+    if let Some(component) = verified(engine, &path, largest, key, &engine_digest, digest) {
         return Ok(component);
     }
     let component = Component::new(engine, wasm)?;
@@ -131,7 +133,20 @@ pub fn load(
 }
 
 /// The component in the entry at `path`, if its signature verifies.
-fn verified(engine: &Engine, path: &Path, key: &Key, engine_digest: &[u8; 32], wasm: &WasmDigest) -> Option<Component> {
+fn verified(
+    engine: &Engine,
+    path: &Path,
+    largest: u64,
+    key: &Key,
+    engine_digest: &[u8; 32],
+    wasm: &WasmDigest,
+) -> Option<Component> {
+    // Only a regular file is read: a FIFO would hang ger, a link to a
+    // device fill its memory (and `store` replaces either by an entry).
+    let meta = std::fs::symlink_metadata(path).ok()?;
+    if !meta.is_file() || meta.len() > largest {
+        return None;
+    }
     let entry = std::fs::read(path).ok()?;
     let (signature, compiled) = entry.split_at_checked(SIGNATURE)?;
     key.signature(engine_digest, wasm, compiled).verify_slice(signature).ok()?;
@@ -146,6 +161,9 @@ fn verified(engine: &Engine, path: &Path, key: &Key, engine_digest: &[u8; 32], w
 /// file or none.
 fn store(cache: &Path, path: &Path, parts: &[&[u8]]) -> io::Result<()> {
     std::fs::create_dir_all(cache)?;
+    // Not `OutputFile`, which writes through a symlink: the wizards folder
+    // may be anyone's, and an entry must never be a way to write elsewhere.
+    // A rename replaces whatever is at `path`, link or file, by the entry.
     let mut temp = tempfile::NamedTempFile::new_in(cache)?;
     for part in parts {
         temp.write_all(part)?;

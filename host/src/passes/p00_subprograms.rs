@@ -18,13 +18,12 @@ use std::collections::{HashMap, HashSet};
 use std::io::BufRead;
 use std::sync::Arc;
 
-use crate::config::Config;
+use crate::config::{Config, DialectConfig};
 use crate::diag::{Diagnostic, Origin, Span};
 use crate::expand::{shown_name, Call, Wizards};
-use crate::lex::Lexer;
-use crate::parse::{parse_in, Event};
+use crate::parse::Event;
 use crate::state::Probe;
-use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, Statement};
+use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, SplineCode, Statement};
 
 /// How deep subprogram calls may nest before ger calls it runaway recursion.
 pub const MAX_CALL_DEPTH: usize = 32;
@@ -62,11 +61,11 @@ impl<'a> Library<'a> {
     }
 
     /// Reads a whole program and keeps the body of every subprogram in it.
-    pub fn scan(program: impl BufRead, dialect: Dialect) -> HashMap<u32, Body> {
+    pub fn scan(program: impl BufRead, dialect: &DialectConfig) -> HashMap<u32, Body> {
         let mut bodies = HashMap::new();
         let mut current: Option<(u32, Vec<Statement>)> = None;
         let mut first = true;
-        for event in parse_in(Lexer::in_dialect(program, dialect), dialect) {
+        for event in super::parse(program, dialect) {
             let Event::Statement(statement) = event else {
                 continue;
             };
@@ -128,9 +127,21 @@ pub struct Subprograms<'a, I> {
     seen_first_statement: bool,
     ended: bool,
     warned_after_end: bool,
+    /// An event to hand out before reading on.
+    pending: Option<Event>,
     motion: MotionMode,
     /// The canned cycle a bare position repeats, until G80 or a motion code.
     cycle: Option<CycleCode>,
+    /// After a spline code (lenient), what a line without a motion code is.
+    after_spline: Option<AfterSpline>,
+}
+
+/// As in LinuxCNC, G5.2 makes each line of X Y P a control point of its
+/// NURBS, while G5, G5.1 and G5.3 leave no motion mode in force.
+#[derive(Clone, Copy)]
+enum AfterSpline {
+    Nurbs,
+    NoMode(&'static str),
 }
 
 impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
@@ -147,8 +158,10 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             seen_first_statement: false,
             ended: false,
             warned_after_end: false,
+            pending: None,
             motion: MotionMode::Rapid,
             cycle: None,
+            after_spline: None,
         }
     }
 
@@ -210,6 +223,14 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 let diagnostic = Diagnostic::warning(statement.span, "this statement follows M30 and never runs")
                     .with_help("after M30, only subprograms (O... to M99) belong in the file");
                 Some(Event::Diagnostic(diagnostic))
+            }
+            // A subprogram's file run on its own: LinuxCNC ends the program at
+            // its M99, as the lenient dialect does; Fanuc and Haas would rewind.
+            Kind::Return if self.runtime.config.dialect.name == Dialect::Lenient => {
+                let message = "M99 in the main program ends it here";
+                let help = "a Fanuc or Haas would run the program again: write M30 to end it, or M47 to repeat it";
+                self.pending = Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
+                self.main_statement(statement.with_kind(Kind::End))
             }
             Kind::Return => {
                 let diagnostic = Diagnostic::error(statement.span, "M99 outside a subprogram")
@@ -331,13 +352,14 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 }
             }
             Kind::Motion(motion) => {
-                if let Err(diagnostic) = self.check_bare_words(motion) {
+                if let Err(diagnostic) = self.check_bare_words(motion, statement.span) {
                     return Some(error(&statement, diagnostic));
                 }
                 match (motion.mode, self.cycle) {
                     (Some(mode), _) => {
                         self.motion = mode;
                         self.cycle = None;
+                        self.after_spline = None;
                     }
                     // In a series of canned cycles, a bare position is one more hole.
                     (None, Some(code)) if motion.moves() => {
@@ -362,6 +384,32 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             }
             Kind::Cycle(cycle) => {
                 self.cycle = Some(cycle.code);
+                self.after_spline = None;
+                Some(Event::Statement(statement))
+            }
+            Kind::Spline(spline) => {
+                match (spline.code, self.after_spline) {
+                    (Some(code), _) => {
+                        self.after_spline = Some(match code {
+                            SplineCode::Nurbs => AfterSpline::Nurbs,
+                            _ => AfterSpline::NoMode(code.code()),
+                        });
+                        self.cycle = None;
+                    }
+                    (None, Some(AfterSpline::Nurbs)) => spline.code = Some(SplineCode::Nurbs),
+                    (None, _) => {
+                        let (letter, word) = spline.weight.map_or(('L', statement.span), |p| ('P', p.span));
+                        let message = format!("{letter} is not used by {}, the motion mode in force", self.mode_name());
+                        let diagnostic = Diagnostic::error(word, message)
+                            .with_help("lines of X Y P are the control points of a NURBS: they follow G5.2");
+                        return Some(error(&statement, diagnostic));
+                    }
+                }
+                Some(Event::Statement(statement))
+            }
+            Kind::NurbsEnd => {
+                self.after_spline = Some(AfterSpline::NoMode("G5.3"));
+                self.cycle = None;
                 Some(Event::Statement(statement))
             }
             // G80 ends the series; the others change nothing a later pass needs.
@@ -376,14 +424,38 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
 }
 
 impl<I> Subprograms<'_, I> {
+    /// The code a line without one moves by, for messages.
+    fn mode_name(&self) -> &'static str {
+        match (self.after_spline, self.cycle) {
+            (Some(AfterSpline::NoMode(code)), _) => code,
+            (Some(AfterSpline::Nurbs), _) => "G5.2",
+            (None, Some(cycle)) => cycle.code(),
+            (None, None) => self.motion.code(),
+        }
+    }
+
     /// A line with no G code moves in the mode in force, which may have no use
     /// for some of its words: I, J, K and R belong to arcs, a canned cycle has
     /// no centre, and it repeats only at a new position. Dropping such a word
     /// would hide a mistake, and writing it out would put R on a G00, so it is
     /// an error, as in LinuxCNC ("R word with no g code that uses it").
-    fn check_bare_words(&self, motion: &Motion) -> Result<(), Diagnostic> {
+    fn check_bare_words(&self, motion: &Motion, span: Span) -> Result<(), Diagnostic> {
         if motion.mode.is_some() {
             return Ok(());
+        }
+        match self.after_spline {
+            Some(AfterSpline::Nurbs) if motion.moves() => {
+                return Err(Diagnostic::error(span, "a NURBS control point needs a weight P greater than zero")
+                    .with_help("G5.2 is in force: write e.g. X1 Y2 P1, or a motion code for a move of another kind"));
+            }
+            Some(AfterSpline::NoMode(code)) if motion.moves() => {
+                return Err(Diagnostic::error(
+                    span,
+                    format!("a move with no motion code after {code}, which leaves none in force"),
+                )
+                .with_help("write the motion code on this line, e.g. G01; only G5.2 goes on in lines of X Y P"));
+            }
+            _ => {}
         }
         let centre = (0..3).find_map(|axis| motion.centre.get(axis).map(|v| (["I", "J", "K"][axis], v)));
         let radius = motion.radius.map(|v| ("R", v));
@@ -432,6 +504,9 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
 
     fn next(&mut self) -> Option<Event> {
         loop {
+            if let Some(event) = self.pending.take() {
+                return Some(event);
+            }
             let event = match self.next_from_stack() {
                 Some(statement) => self.run(statement),
                 None => match self.restarted.as_mut().map_or_else(|| self.upstream.next(), |stream| stream.next()) {
@@ -494,7 +569,7 @@ mod tests {
 
     #[test]
     fn a_canned_cycle_repeats_only_at_a_position_and_has_no_centre() {
-        let config = crate::config::Config { dialect: crate::statement::Dialect::Lenient, ..Default::default() };
+        let config = crate::config::Config { dialect: crate::statement::Dialect::Lenient.into(), ..Default::default() };
         let cycle = "G81 X0 Z-1 R0.1 F5\n";
         // R changes with a new hole, not alone: alone LinuxCNC rejects it, and ger drilled the same hole again.
         let got = run_with(&format!("{cycle}R0.2\nX1 R0.3\nM30"), &config, 0);
@@ -528,7 +603,8 @@ mod tests {
 
     #[test]
     fn m47_repeats_the_program_a_bounded_number_of_times() {
-        let mut config = crate::config::Config { dialect: crate::statement::Dialect::Lenient, ..Default::default() };
+        let mut config =
+            crate::config::Config { dialect: crate::statement::Dialect::Lenient.into(), ..Default::default() };
         config.machine.m47_repeats = 2;
         let got = run_with("O9\nG91\nG00 X1\nM98 P5\nM47\nO5\nY1\nM99", &config, 0);
         let once = ["G91", "G00 X1.0000", "G00 Y1.0000"];

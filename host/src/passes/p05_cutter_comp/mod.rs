@@ -205,6 +205,10 @@ impl CutterComp {
                 "cancel it with G40 first, then turn it on again (to change side or tool)",
             );
         }
+        // D0 is "no tool" (LinuxCNC): a radius of zero, so the path is cut as written.
+        if d == Some(0) {
+            return;
+        }
         let entry = d.unwrap_or(self.tool);
         let Some(radius) = self.radius(entry) else {
             let (message, help) = match d {
@@ -534,12 +538,6 @@ impl Pass for CutterComp {
                 let step = self.advance(motion);
                 self.motion(statement, step, out);
             }
-            Kind::ToolLength { z, .. } => {
-                if let Some(z) = z {
-                    self.position[2] = z.value;
-                }
-                self.pass(statement, out);
-            }
             Kind::Machine { code: Machine::ToolChange, t, .. } => {
                 // The radius in use stays until G40, as in LinuxCNC; a new
                 // G41/G42 takes the new tool's.
@@ -705,6 +703,8 @@ mod tests {
             "2:1: error: cannot turn cutter radius compensation on (G42) when it is already on"
         );
         assert_eq!(comp("G41 D3")[0], "1:1: error: tool table entry 3 (D3) does not exist");
+        // D0 is no tool, as in LinuxCNC: the path is cut as written.
+        assert_eq!(comp("G41 D0\nG01 X1 F1\nY1\nG40\nM30"), ["G01 X1.0000 F1.0000", "G01 Y1.0000", "M30"]);
         assert_eq!(
             comp("M06 T4\nG41"),
             ["M06 T4", "2:1: error: the loaded tool, T4, is not in the tool table: its radius is unknown"]
