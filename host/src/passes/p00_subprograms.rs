@@ -38,19 +38,50 @@ pub struct Library<'a> {
     scan: Option<Box<dyn FnOnce() -> HashMap<u32, Body> + 'a>>,
     /// Reads the program again from its start, for M47.
     reopen: Option<Reopen<'a>>,
+    /// Finds a program kept in a file of its own, as a Fanuc or Haas keeps
+    /// programs in its memory by number: the file's name and the body.
+    files: Option<Box<dyn FnMut(u32) -> Option<(String, Body)> + 'a>>,
+    /// The programs found in files, and the files' names.
+    found: HashMap<u32, (String, Body)>,
 }
 
 type Reopen<'a> = Box<dyn FnMut() -> Box<dyn Iterator<Item = Event> + 'a> + 'a>;
 
+/// A subprogram to run: its body, and the file it came from if it is not
+/// in the program itself.
+type Found = (Body, Option<String>);
+
 impl<'a> Library<'a> {
     /// Only the subprograms defined before they are called.
     pub fn empty() -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: None, reopen: None }
+        Library { bodies: HashMap::new(), scan: None, reopen: None, files: None, found: HashMap::new() }
     }
 
     /// `scan` is run the first time a call names a program not seen yet.
     pub fn scanning(scan: impl FnOnce() -> HashMap<u32, Body> + 'a) -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: Some(Box::new(scan)), reopen: None }
+        Library { scan: Some(Box::new(scan)), ..Library::empty() }
+    }
+
+    /// `files` looks for a program the program itself does not define, in
+    /// files of its own (the lenient dialect).
+    pub fn with_files(mut self, files: impl FnMut(u32) -> Option<(String, Body)> + 'a) -> Library<'a> {
+        self.files = Some(Box::new(files));
+        self
+    }
+
+    /// The body of program `number` in a file of its own: the file's first
+    /// O word must name it, and it runs to its M99 (or M30, or the end).
+    pub fn scan_file(program: impl BufRead, number: u32, dialect: &DialectConfig) -> Option<Body> {
+        let mut statements = super::parse(program, dialect).filter_map(|event| match event {
+            Event::Statement(statement) => Some(statement),
+            Event::Diagnostic(_) => None,
+        });
+        match statements.next()?.kind {
+            Kind::Program(n) if n == number => {}
+            _ => return None,
+        }
+        let body = statements.take_while(|s| !matches!(s.kind, Kind::Return | Kind::End)).collect();
+        Some(Arc::new(body))
     }
 
     /// `reopen` parses the program again from its start: M47 (lenient
@@ -84,7 +115,7 @@ impl<'a> Library<'a> {
         bodies
     }
 
-    fn find(&mut self, program: u32) -> Option<Body> {
+    fn find(&mut self, program: u32) -> Option<Found> {
         if !self.bodies.contains_key(&program) {
             if let Some(scan) = self.scan.take() {
                 for (n, body) in scan() {
@@ -92,7 +123,14 @@ impl<'a> Library<'a> {
                 }
             }
         }
-        self.bodies.get(&program).cloned()
+        if let Some(body) = self.bodies.get(&program) {
+            return Some((body.clone(), None));
+        }
+        if !self.found.contains_key(&program) {
+            let file = self.files.as_mut().and_then(|files| files(program))?;
+            self.found.insert(program, file);
+        }
+        self.found.get(&program).map(|(file, body)| (body.clone(), Some(file.clone())))
     }
 }
 
@@ -273,18 +311,29 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     self.stack.clear();
                     return Some(error(&statement, diagnostic));
                 }
-                let Some(body) = self.library.find(program) else {
+                let Some((mut body, file)) = self.library.find(program) else {
+                    let mut help = format!("define it after M30: O{program} ... M99");
+                    if self.runtime.config.dialect.name == Dialect::Lenient {
+                        help.push_str(&format!(", or keep it in a file of its own beside the program (O{program}.nc)"));
+                    }
                     let diagnostic =
                         Diagnostic::error(statement.span, format!("M98 calls O{program}, which is not in the program"))
-                            .with_help(format!("define it after M30: O{program} ... M99"));
+                            .with_help(help);
                     return Some(error(&statement, diagnostic));
                 };
+                if let Some(file) = &file {
+                    // Its lines are another file's: they say where the call is, as a wizard's do.
+                    let mut statements = body.to_vec();
+                    statements.iter_mut().for_each(|s| s.span = statement.span);
+                    body = Arc::new(statements);
+                    let _ = file;
+                }
                 if repeat > 0 {
-                    let origin = Arc::new(Origin {
-                        what: format!("O{program}"),
-                        call: statement.span,
-                        parent: statement.origin.clone(),
-                    });
+                    let what = match &file {
+                        Some(file) => format!("O{program} (from {file})"),
+                        None => format!("O{program}"),
+                    };
+                    let origin = Arc::new(Origin { what, call: statement.span, parent: statement.origin.clone() });
                     self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin, wizard: false });
                 }
                 None
