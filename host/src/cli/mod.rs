@@ -91,6 +91,9 @@ pub(crate) struct WizardOptions {
     /// Seconds one wizard call may run.
     #[arg(long, value_name = "SECONDS", default_value_t = 1.0, value_parser = positive_seconds)]
     pub wizard_time: f64,
+    /// Seconds all the wizard calls of one program (nested ones too) may run together.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0, value_parser = positive_seconds)]
+    pub wizard_total_time: f64,
     /// MiB of memory one wizard call may use.
     #[arg(long, value_name = "MIB", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub wizard_memory: u32,
@@ -109,6 +112,7 @@ impl WizardOptions {
     pub fn runtime(&self, config: &Config) -> WasmWizards {
         let limits = Limits {
             time: std::time::Duration::from_secs_f64(self.wizard_time),
+            program_time: std::time::Duration::from_secs_f64(self.wizard_total_time),
             memory: (self.wizard_memory as usize) << 20,
             ..Limits::default()
         };

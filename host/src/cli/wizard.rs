@@ -10,8 +10,10 @@ use notify::{Event, EventKind, RecursiveMode, Watcher};
 
 use super::{report::plain_error, CommonArgs, Input, WizardOptions};
 use crate::config::Config;
+use crate::diag::clip;
 use crate::expand::build::{self, Progress, Source};
 use crate::expand::catalog::{self, Catalog};
+use crate::expand::{Wizards, SHOWN_MESSAGE};
 use crate::output::OutputFile;
 
 #[derive(Subcommand)]
@@ -127,7 +129,13 @@ fn sources(catalog: &Catalog) -> Vec<String> {
 
 fn list(dir: &Path, no_build: bool) -> Result<i32, String> {
     let catalog = scan(dir)?;
-    let options = WizardOptions { dir: dir.to_path_buf(), no_build, wizard_time: 5.0, wizard_memory: 256 };
+    let options = WizardOptions {
+        dir: dir.to_path_buf(),
+        no_build,
+        wizard_time: 5.0,
+        wizard_total_time: 5.0,
+        wizard_memory: 256,
+    };
     let mut runtime = options.runtime(&Config::default());
     let mut failed = 0;
     if catalog.entries().next().is_none() {
@@ -139,13 +147,17 @@ fn list(dir: &Path, no_build: bool) -> Result<i32, String> {
             println!("{:<40} ({}, {language}, not built)", entry.name, entry.name);
             continue;
         }
+        // Each description is a run of its own, with a call's time.
+        runtime.start();
         match runtime.describe(&entry.name) {
             Ok(d) => {
-                println!("{:<40} ({}, {language})", d.usage, entry.name);
-                println!("    {}", d.summary);
+                // A wizard's texts are its own, and may be any length.
+                let shown = |text: &str| clip(text, SHOWN_MESSAGE).into_owned();
+                println!("{:<40} ({}, {language})", shown(&d.usage), entry.name);
+                println!("    {}", shown(&d.summary));
                 for p in &d.params {
                     let optional = if p.optional { " (optional)" } else { "" };
-                    println!("    {:<12} {}{optional}", p.name, p.description);
+                    println!("    {:<12} {}{optional}", shown(&p.name), shown(&p.description));
                 }
             }
             Err(diagnostic) => {

@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 use crate::config::{Config, DialectConfig};
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::expand::{Call, Wizards};
+use crate::expand::{shown_name, Call, Wizards};
 use crate::parse::Event;
 use crate::state::Probe;
 use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, SplineCode, Statement};
@@ -348,9 +348,33 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     .with_help("a subprogram returns with M99; M30 ends the main program");
                 Some(error(&statement, diagnostic))
             }
+            // Only a wizard's output brings these here (a subprogram's body
+            // ends before its M99): run in place of the call, M99 would end
+            // the main program, and O would define a subprogram inside one.
+            Kind::Return | Kind::Program(_) if self.stack.last().is_some_and(|frame| frame.wizard) => {
+                let frame = self.stack.pop().expect("matched Some");
+                let (message, help) = match statement.kind {
+                    Kind::Program(number) => (
+                        format!(
+                            "O{number} in the output of {}: a wizard cannot define a subprogram",
+                            frame.origin.what
+                        ),
+                        "subprograms are defined in the program (O... to M99, after M30); \
+                         a wizard's output may call them with M98 P...",
+                    ),
+                    _ => (
+                        format!("M99 in the output of {}", frame.origin.what),
+                        "a wizard's statements run in place of its call, not as a subprogram: \
+                         there M99 would end the main program (on Fanuc or Haas, rewind and repeat it)",
+                    ),
+                };
+                let help = format!("{help}; the rest of this call's statements are dropped");
+                Some(error(&statement, Diagnostic::error(statement.span, message).with_help(help)))
+            }
             Kind::Wizard { name, args } => {
                 let depth = self.stack.iter().filter(|frame| frame.wizard).count();
                 if depth >= MAX_WIZARD_DEPTH {
+                    let name = shown_name(name);
                     let message =
                         format!("wizard calls nest deeper than {MAX_WIZARD_DEPTH}: `{name}` recurses without end");
                     let diagnostic = Diagnostic::error(statement.span, message)
@@ -366,7 +390,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                             generated.span = statement.span;
                         }
                         let origin = Arc::new(Origin {
-                            what: format!("wizard `{name}`"),
+                            what: format!("wizard `{}`", shown_name(name)),
                             call: statement.span,
                             parent: statement.origin.clone(),
                         });
@@ -699,6 +723,21 @@ mod tests {
             assert_eq!(state.line, 6);
             // The wizard's move is incremental, in mm, from X35.4 mm: to 36.4 mm = 1.4331 in.
             assert_eq!(got[2], "N6 G01 X1.4331 F3.9370");
+        }
+
+        #[test]
+        fn m99_or_o_in_a_wizards_output_is_an_error_at_the_call() {
+            let chain = r#"["in wizard `Rewind` called at line 1"]"#;
+            let mut fake = Fake { seen: Vec::new(), answer: "G01 X1 F10\nM99\nG01 X2" };
+            let got = run("Rewind\nM30", &mut fake);
+            let error = format!("1:1: error: M99 in the output of wizard `Rewind` {chain}");
+            assert_eq!(got, ["N1 G01 X1.0000 F10.0000", &error, "N2 M30"]);
+            let mut fake = Fake { seen: Vec::new(), answer: "O100\nX3\nM99" };
+            let got = run("Rewind\nM30", &mut fake);
+            let error = format!(
+                "1:1: error: O100 in the output of wizard `Rewind`: a wizard cannot define a subprogram {chain}"
+            );
+            assert_eq!(got, [&error, "N2 M30"]);
         }
 
         #[test]
