@@ -4,7 +4,7 @@
 mod check;
 mod render;
 mod report;
-mod view;
+pub mod view;
 mod wizard;
 
 use std::fs::File;

@@ -10,6 +10,8 @@ mod server;
 mod session;
 mod watch;
 
+pub use server::Guard;
+
 use std::io::Write;
 use std::net::{Ipv4Addr, TcpListener};
 use std::path::Path;
