@@ -1,0 +1,40 @@
+//! The whole translation, strict (on an inch machine) and lenient (on a
+//! millimetre one), with every statement written as `ger run` writes it:
+//! no panic, and every line plain G-code (no `inf`, `NaN` or exponent).
+#![no_main]
+
+#[path = "../../tests/support/plain.rs"]
+mod plain;
+
+use ger::config::Config;
+use ger::emit::Emitter;
+use ger::expand::NoWizards;
+use ger::passes::{parse, translate, Event, Library, Options, LAST_STAGE};
+use ger::statement::{Dialect, Units};
+use libfuzzer_sys::fuzz_target;
+
+/// Events looked at per translation. A short program can mean an endless
+/// output (`M98 P1 L99999999`), which ger streams in flat memory; past this
+/// many lines the rest is more of the same.
+const EVENTS: usize = 100_000;
+
+fuzz_target!(|program: &[u8]| {
+    for (dialect, units) in [(Dialect::Strict, Units::Inch), (Dialect::Lenient, Units::Mm)] {
+        let config = Config { dialect: dialect.into(), units, ..Config::default() };
+        let library = Library::scanning(|| Library::scan(program, &config.dialect))
+            .with_restart(|| Box::new(parse(program, &config.dialect)));
+        let emitter = Emitter::new(config.units.decimals(), true);
+        let options = Options { config: &config, stage: LAST_STAGE, wizards: &mut NoWizards };
+        for event in translate(program, library, options).take(EVENTS) {
+            match event {
+                Event::Statement(statement) => {
+                    let line = emitter.line(&statement);
+                    if let Some(word) = plain::odd_word(&line) {
+                        panic!("{dialect:?}: the output line {line:?} has the word {word:?}");
+                    }
+                }
+                Event::Diagnostic(diagnostic) => drop(diagnostic.to_string()),
+            }
+        }
+    }
+});
