@@ -19,3 +19,4 @@ pub mod render;
 pub mod sim;
 pub mod state;
 pub mod statement;
+pub mod tools;

@@ -13,13 +13,14 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::config::Config;
+use crate::config::{Config, StockConfig};
 use crate::emit::{preamble, Emitter};
 use crate::expand::{Limits, WasmWizards, Wizards};
 use crate::lex::{Lexed, Lexer, TokenKind};
 use crate::parse::{parse, parse_in};
 use crate::passes::{translate, Event, Library, Options, LAST_STAGE};
 use crate::statement::{Dialect, Units};
+use crate::tools;
 use report::{plain_error, read_error, Report};
 
 #[derive(Parser)]
@@ -210,6 +211,15 @@ impl Input {
         }
     }
 
+    /// The program's file, if it has one.
+    fn path(&self) -> Option<PathBuf> {
+        match self {
+            Input::File(path) => Some(path.clone()),
+            Input::Stdin(_) => None,
+            Input::Text { name, dir, .. } => Some(dir.join(name)),
+        }
+    }
+
     fn dir(&self) -> PathBuf {
         match self {
             Input::File(path) => path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf),
@@ -237,25 +247,26 @@ impl BufRead for FailingReader {
 }
 
 /// The machine: `args.config`, or `ger.toml` beside the program. A bad one is
-/// an error rendered as rustc would (with colour when `styled`).
+/// an error rendered as rustc would (with colour when `styled`). The tools
+/// and stock the file leaves out come from the program (see [`crate::tools`]).
 fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config, String> {
     let path = match &args.config {
         Some(path) => Some(path.clone()),
         None => Some(input.dir().join("ger.toml")).filter(|p| p.is_file()),
     };
-    let mut config = match path {
-        None => Config::default(),
-        Some(path) => {
-            let name = path.display().to_string();
-            let text = std::fs::read_to_string(&path).map_err(|err| read_error(&name, &err))?;
+    let name = path.as_ref().map(|path| path.display().to_string());
+    let mut config = match (&path, &name) {
+        (Some(path), Some(name)) => {
+            let text = std::fs::read_to_string(path).map_err(|err| read_error(name, &err))?;
             Config::from_toml(&text).map_err(|diagnostic| {
                 let mut report = Report::default();
                 report.add(diagnostic);
                 report
-                    .render(&name, text.as_bytes(), styled)
+                    .render(name, text.as_bytes(), styled)
                     .replace("could not translate the program", "bad configuration")
             })?
         }
+        _ => Config::default(),
     };
     if args.lenient {
         config.dialect = Dialect::Lenient;
@@ -266,7 +277,45 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
             UnitsArg::Mm => Units::Mm,
         };
     }
+    let wanted = !config.has_tool_table() || config.stock == StockConfig::default();
+    let (project, described) = if wanted {
+        (project(input)?, tools::scan(input.open(), config.dialect))
+    } else {
+        (None, tools::ProgramTools::default())
+    };
+    let project = project.as_ref().map(|(name, project)| (name.as_str(), project));
+    tools::settle(&mut config, name.as_deref(), project, &described);
     Ok(config)
+}
+
+/// The CAMotics project of the program: `NAME.camotics` beside `NAME.nc`,
+/// else a project in its folder that lists it. Its name is as the program's
+/// folder is given; a bad one is an error, unless found by its list.
+fn project(input: &Input) -> Result<Option<(String, tools::camotics::Project)>, String> {
+    let Some(program) = input.path() else { return Ok(None) };
+    let own = program.with_extension("camotics");
+    if own.is_file() {
+        let name = own.display().to_string();
+        let text = std::fs::read_to_string(&own).map_err(|err| read_error(&name, &err))?;
+        let project = tools::camotics::parse(&text)
+            .map_err(|err| plain_error(&format!("bad CAMotics project {name}: {err}"), None))?;
+        return Ok(Some((name, project)));
+    }
+    let Some(file_name) = program.file_name().and_then(|n| n.to_str()) else { return Ok(None) };
+    let dir = input.dir();
+    let listing = if dir.as_os_str().is_empty() { Path::new(".") } else { &dir };
+    let Ok(entries) = std::fs::read_dir(listing) else { return Ok(None) };
+    let mut projects: Vec<PathBuf> = entries
+        .flatten()
+        .map(|entry| dir.join(entry.file_name()))
+        .filter(|path| path.extension().is_some_and(|e| e == "camotics") && path.is_file())
+        .collect();
+    projects.sort();
+    Ok(projects.into_iter().find_map(|path| {
+        let project = tools::camotics::parse(&std::fs::read_to_string(&path).ok()?).ok()?;
+        let listed = project.files.iter().any(|f| Path::new(f).file_name().is_some_and(|f| f == file_name));
+        listed.then(|| (path.display().to_string(), project))
+    }))
 }
 
 /// The subprograms of `input`, found by reading it again when a call names
