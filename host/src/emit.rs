@@ -4,7 +4,9 @@
 
 use std::fmt::Write;
 
-use crate::statement::{Axes, Kind, Offset, Reference, Retract, Side, Statement, Units, Value, WizardArg};
+use crate::statement::{
+    Axes, Distance, FeedMode, Kind, Offset, Reference, Retract, Side, Statement, Units, Value, WizardArg,
+};
 
 pub struct Emitter {
     decimals: usize,
@@ -16,6 +18,15 @@ pub struct Emitter {
 pub fn preamble(source: &str, units: Units) -> String {
     let source = source.replace(['(', ')'], "");
     format!("(ger: translated from {source})\n{}\nG90\nG17\n", units.code())
+}
+
+/// An M code as the parser numbers it (times ten): `M62`, `M100`, `M1.5`.
+fn pass_through_code(code: u32) -> String {
+    if code.is_multiple_of(10) {
+        format!("M{:02}", code / 10)
+    } else {
+        format!("M{}.{}", code / 10, code % 10)
+    }
 }
 
 impl Emitter {
@@ -56,26 +67,37 @@ impl Emitter {
             }
             Kind::Plane(plane) => out.push_str(plane.code()),
             Kind::Units(units) => out.push_str(units.code()),
-            Kind::Distance(d) => out.push_str(if *d == crate::statement::Distance::Absolute { "G90" } else { "G91" }),
+            Kind::Distance(d) => out.push_str(if *d == Distance::Absolute { "G90" } else { "G91" }),
             Kind::Polar(on) => out.push_str(if *on { "G16" } else { "G15" }),
             Kind::Offset { code, axes } => {
                 match code {
                     Offset::G52 => out.push_str("G52"),
                     Offset::G92 => out.push_str("G92"),
-                    Offset::WorkOffset(entry) => {
+                    Offset::WorkOffset(entry @ 1..=6) => {
                         let _ = write!(out, "G{}", 53 + entry);
                     }
+                    Offset::WorkOffset(entry @ 7..=9) => {
+                        let _ = write!(out, "G59.{}", entry - 6);
+                    }
+                    Offset::WorkOffset(entry) => {
+                        let _ = write!(out, "G54.1 P{}", entry - 9);
+                    }
+                    Offset::G92Cancel { keep: false } => out.push_str("G92.1"),
+                    Offset::G92Cancel { keep: true } => out.push_str("G92.2"),
+                    Offset::G92Restore => out.push_str("G92.3"),
                 }
                 self.axes(out, "XYZ", axes);
             }
-            Kind::ToolLength { positive, z, h } => {
+            Kind::ToolLength { positive, h } => {
                 out.push_str(if *positive { "G43" } else { "G44" });
-                self.value(out, 'Z', *z);
                 if let Some(h) = h {
                     let _ = write!(out, " H{h}");
                 }
             }
             Kind::ToolLengthCancel => out.push_str("G49"),
+            Kind::ToolLengthRegister(h) => {
+                let _ = write!(out, "H{h}");
+            }
             Kind::CutterComp { side, d } => {
                 out.push_str(if *side == Side::Left { "G41" } else { "G42" });
                 if let Some(d) = d {
@@ -112,6 +134,26 @@ impl Emitter {
                 let _ = write!(out, "T{t}");
             }
             Kind::NoEffect(code) => out.push_str(code),
+            Kind::Rotary(words) => {
+                for (letter, word) in ['A', 'B', 'C'].into_iter().zip(words) {
+                    self.value(out, letter, *word);
+                }
+            }
+            Kind::PassThrough { code, words } => {
+                out.push_str(&pass_through_code(*code));
+                for (letter, value) in words {
+                    let _ = write!(out, " {letter}{value}");
+                }
+            }
+            Kind::FeedMode(mode) => out.push_str(match mode {
+                FeedMode::InverseTime => "G93",
+                FeedMode::PerMinute => "G94",
+                FeedMode::PerRevolution => "G95",
+            }),
+            Kind::ArcCentres(distance) => out.push_str(if *distance == Distance::Absolute { "G90.1" } else { "G91.1" }),
+            Kind::SetReference(reference) => {
+                out.push_str(if *reference == Reference::Home { "G28.1" } else { "G30.1" })
+            }
             Kind::CycleCancel => out.push_str("G80"),
             Kind::CycleRetract(retract) => out.push_str(if *retract == Retract::Initial { "G98" } else { "G99" }),
             Kind::Cycle(cycle) => {
@@ -138,6 +180,20 @@ impl Emitter {
                 self.axes(out, "XYZ", &m.target);
                 self.value(out, 'F', m.feed);
             }
+            Kind::Spline(spline) => {
+                if let Some(code) = spline.code {
+                    out.push_str(code.code());
+                }
+                self.axes(out, "XYZ", &spline.target);
+                self.axes(out, "IJ", &spline.first);
+                self.axes(out, "PQ", &spline.second);
+                self.value(out, 'P', spline.weight);
+                if let Some(order) = spline.order {
+                    let _ = write!(out, " L{order}");
+                }
+                self.value(out, 'F', spline.feed);
+            }
+            Kind::NurbsEnd => out.push_str("G5.3"),
             Kind::SetWorkOffset { entry, axes, relative } => {
                 let _ = write!(out, "G10 L{} P{entry}", if *relative { 20 } else { 2 });
                 self.axes(out, "XYZ", axes);

@@ -70,6 +70,10 @@ pub struct Lexer<R> {
 /// The longest line read: 1 MiB, far beyond any real program's.
 pub const MAX_LINE: usize = 1 << 20;
 
+/// The largest number a word may have. Numbers this size keep every sum
+/// and product the passes make finite (f64 reaches 10^308).
+pub const MAX_NUMBER: f64 = 1e12;
+
 /// A program's lines, as the lexer numbers them and diagnostics quote them:
 /// a line ends at LF, CRLF or a lone CR (files saved on old Macs), as in a
 /// text editor. A line longer than [`MAX_LINE`] is cut there, so one endless
@@ -256,6 +260,20 @@ impl<R: BufRead> Lexer<R> {
                     pos += 1;
                 }
                 b'%' if first_on_line && text[pos + 1..].trim().is_empty() => pos = bytes.len(),
+                // A tape marker followed by a name or comment (`%PART1`), as Fanuc reads it.
+                b'%' if first_on_line && self.lenient => pos = bytes.len(),
+                // GRBL's system commands (`$H`, `$X`, `$32=1`): not G-code, and not sent to any other controller.
+                b'$' if first_on_line && self.lenient => {
+                    let command = text[pos..].trim_end();
+                    let message = format!("`{command}` is a GRBL system command, not G-code: it is dropped");
+                    let help = if command.eq_ignore_ascii_case("$H") {
+                        "homing is the machine's business before the program starts; ger's machine zero is where the tool starts"
+                    } else {
+                        "send GRBL's settings and commands from the sender, not in the program"
+                    };
+                    self.push_diag(Diagnostic::warning(self.span(pos, command.len()), message).with_help(help));
+                    pos = bytes.len();
+                }
                 b'"' if in_wizard_args => pos = self.string(text, pos),
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
                 _ if c.is_ascii_alphabetic() => {
@@ -353,9 +371,18 @@ impl<R: BufRead> Lexer<R> {
         end
     }
 
+    /// The comment runs to the `)` that balances its first `(`, so the rest
+    /// of the line keeps its meaning; the lenient dialect takes that as some
+    /// controllers do, with a warning.
     fn nested_comment(&mut self, col: usize) {
-        let diagnostic = Diagnostic::error(self.span(col, 1), "comments cannot nest: `(` inside a comment")
-            .with_help("close the first comment with `)` before opening another");
+        let span = self.span(col, 1);
+        let diagnostic = if self.lenient {
+            Diagnostic::warning(span, "a comment inside a comment: read to the `)` that closes the first `(`")
+                .with_help("LinuxCNC and Fanuc refuse nested comments; close the first comment before opening another")
+        } else {
+            Diagnostic::error(span, "comments cannot nest: `(` inside a comment")
+                .with_help("close the first comment with `)` before opening another")
+        };
         self.push_diag(diagnostic);
     }
 
@@ -372,17 +399,33 @@ impl<R: BufRead> Lexer<R> {
             let message = format!("malformed number in `{}`", &text[start..end + junk]);
             self.push_diag(Diagnostic::error(self.span(start, end + junk - start), message));
         } else if letter != 'N' {
-            self.push_token(TokenKind::Word { letter, value }, start, end - start);
+            self.push_word(letter, value, start, end - start);
         } else if !first_on_line {
             let message = "an N line number may only start a line";
             let diagnostic = Diagnostic::error(self.span(start, end - start), message)
                 .with_help("remove it, or move it to the start of the line");
             self.push_diag(diagnostic);
-        } else if value.fract() != 0.0 || value < 0.0 {
+        } else if value < 0.0 || (value.fract() != 0.0 && !self.lenient) {
+            // LinuxCNC reads past a fractional one (N10.5); so does the lenient dialect.
             let message = "an N line number must be a whole number";
             self.push_diag(Diagnostic::error(self.span(start, end - start), message));
         }
         end + junk
+    }
+
+    /// A letter and its number, if the number is one a machine could mean.
+    fn push_word(&mut self, letter: char, value: f64, start: usize, len: usize) {
+        if value.abs() > MAX_NUMBER {
+            self.too_large(start, len);
+        } else {
+            self.push_token(TokenKind::Word { letter, value }, start, len);
+        }
+    }
+
+    fn too_large(&mut self, start: usize, len: usize) {
+        let message = "this number is too large for any machine: ger reads numbers up to 10^12";
+        let help = "no length, feed, speed or program number comes near it: check for a missing decimal point";
+        self.push_diag(Diagnostic::error(self.span(start, len), message).with_help(help));
     }
 
     /// `X` with no number after it: the error swallows what looks like the
@@ -398,7 +441,7 @@ impl<R: BufRead> Lexer<R> {
             let number = number_len(&rest[spaces..]);
             if let (true, Ok(value)) = (number > 0 && spaces > 0, rest[spaces..spaces + number].parse::<f64>()) {
                 let letter = letter.to_ascii_uppercase();
-                self.push_token(TokenKind::Word { letter, value }, start, 1 + spaces + number);
+                self.push_word(letter, value, start, 1 + spaces + number);
                 return start + 1 + spaces + number;
             }
         }
@@ -417,9 +460,8 @@ impl<R: BufRead> Lexer<R> {
             .unwrap_or(text.len() - start);
         let piece = &text[start..start + len];
         match piece.parse::<f64>() {
-            Ok(value) if number_len(piece) == len && value.is_finite() => {
-                self.push_token(TokenKind::Number(value), start, len)
-            }
+            Ok(value) if number_len(piece) == len && value.abs() > MAX_NUMBER => self.too_large(start, len),
+            Ok(value) if number_len(piece) == len => self.push_token(TokenKind::Number(value), start, len),
             _ => {
                 let message = format!("wizard argument `{piece}` is neither a number nor a \"string\"");
                 let diagnostic = Diagnostic::error(self.span(start, len), message)

@@ -22,6 +22,23 @@ impl Statement {
         Statement { kind, span, origin: None }
     }
 
+    /// Whether every number the statement holds is finite.
+    pub fn is_finite(&self) -> bool {
+        let axes = |axes: &Axes| (0..3).all(|axis| axes.get(axis).is_none_or(|v| v.value.is_finite()));
+        let value = |v: &Option<Value>| v.is_none_or(|v| v.value.is_finite());
+        let motion = |m: &Motion| axes(&m.target) && axes(&m.centre) && value(&m.radius) && value(&m.feed);
+        match &self.kind {
+            Kind::Motion(m) | Kind::MachineMove(m) => motion(m),
+            Kind::Offset { axes: a, .. } | Kind::SetWorkOffset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
+            Kind::Cycle(c) => axes(&c.target) && value(&c.r) && value(&c.q) && value(&c.p) && value(&c.feed),
+            Kind::Machine { s, .. } => s.is_none_or(f64::is_finite),
+            Kind::Dwell(v) | Kind::SpindleSpeed(v) => v.is_finite(),
+            Kind::Rotary(words) => words.iter().all(value),
+            Kind::PassThrough { words, .. } => words.iter().all(|(_, v)| v.is_finite()),
+            _ => true,
+        }
+    }
+
     /// The same origin, a new kind: for passes that rewrite a statement.
     pub fn with_kind(&self, kind: Kind) -> Statement {
         Statement { kind, span: self.span, origin: self.origin.clone() }
@@ -199,10 +216,27 @@ pub enum Distance {
 pub enum Offset {
     /// G52: program zero at the given machine coordinates.
     G52,
-    /// G54..G59: entry 1..6 of the work-offsets table.
+    /// G54..G59, G59.1..G59.3: entry 1..9 of the work-offsets table; G54.1
+    /// Pn and Haas's G154 Pn: entry 9 + n.
     WorkOffset(u8),
     /// G92: the current position reads as the given coordinates.
     G92,
+    /// G92.1 and G92.2 (LinuxCNC): the G92 offset is cancelled, program zero
+    /// is the coordinate system's again; G92.2 keeps it for a later G92.3.
+    G92Cancel { keep: bool },
+    /// G92.3: the offset G92.2 kept is in force again.
+    G92Restore,
+}
+
+/// The feed rate modes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedMode {
+    /// G94: F is units per minute.
+    PerMinute,
+    /// G93: F is the inverse of the move's time in minutes.
+    InverseTime,
+    /// G95: F is units per spindle revolution.
+    PerRevolution,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -296,6 +330,10 @@ pub enum CycleCode {
     BoreSpindleStop,
     /// G89: boring, dwell, feed out.
     BoreDwell,
+    /// G84: right-hand tapping: feed in turning clockwise, out turning counter-clockwise.
+    Tap,
+    /// G74: left-hand tapping: the other way round.
+    TapLeft,
 }
 
 impl CycleCode {
@@ -308,6 +346,8 @@ impl CycleCode {
             CycleCode::Bore => "G85",
             CycleCode::BoreSpindleStop => "G86",
             CycleCode::BoreDwell => "G89",
+            CycleCode::Tap => "G84",
+            CycleCode::TapLeft => "G74",
         }
     }
 }
@@ -333,6 +373,51 @@ pub enum Retract {
     #[default]
     Initial,
     RPlane,
+}
+
+/// The lenient dialect's splines (LinuxCNC's), in the XY plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SplineCode {
+    /// G5: a cubic Bézier curve.
+    Cubic,
+    /// G5.1: a quadratic Bézier curve.
+    Quadratic,
+    /// G5.2: a NURBS control point (the curve is drawn at G5.3).
+    Nurbs,
+}
+
+impl SplineCode {
+    pub fn code(self) -> &'static str {
+        match self {
+            SplineCode::Cubic => "G05",
+            SplineCode::Quadratic => "G5.1",
+            SplineCode::Nurbs => "G5.2",
+        }
+    }
+}
+
+/// The most control points one NURBS may have: they are kept until its G5.3.
+pub const MAX_NURBS_POINTS: usize = 10_000;
+/// The highest order a NURBS may have (LinuxCNC sets no limit).
+pub const MAX_NURBS_ORDER: u32 = 16;
+
+/// A spline statement (lenient dialect), with LinuxCNC's words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spline {
+    /// `None`: a line of X Y P with no code, which pass 00 makes the next
+    /// control point of the NURBS in force.
+    pub code: Option<SplineCode>,
+    /// X, Y: the end (G5, G5.1), or a control point (G5.2). Never Z.
+    pub target: Axes,
+    /// I, J (as x, y): the first control point, relative to the start (G5, G5.1).
+    pub first: Axes,
+    /// P, Q (as x, y): G5's second control point, relative to the end.
+    pub second: Axes,
+    /// P: a NURBS control point's weight (G5.2).
+    pub weight: Option<Value>,
+    /// L: the NURBS's order (G5.2).
+    pub order: Option<u32>,
+    pub feed: Option<Value>,
 }
 
 /// G28 goes to machine zero, G30 to the configured second reference.
@@ -362,15 +447,18 @@ pub enum Kind {
         code: Offset,
         axes: Axes,
     },
-    /// G43 (positive) / G44 with an optional Z to move to and the H register
-    /// (none: the loaded tool's, lenient dialect only, settled in pass 04).
+    /// G43 (positive) / G44 with the H register (none: the loaded tool's,
+    /// lenient dialect only, settled in pass 04). A Z written with it is a
+    /// move of its own, in the motion mode in force, as on every controller.
     ToolLength {
         positive: bool,
-        z: Option<Value>,
         h: Option<u32>,
     },
     /// G49.
     ToolLengthCancel,
+    /// An H word with no G43/G44 (lenient dialect): a new register for the
+    /// offset in force (Fanuc), or the offset applied as G43 (Fadal).
+    ToolLengthRegister(u32),
     /// G41/G42 with an optional D (tool table entry).
     CutterComp {
         side: Side,
@@ -425,6 +513,29 @@ pub enum Kind {
     },
     /// G53: a move in machine coordinates, whatever the offsets and G90/G91.
     MachineMove(Box<Motion>),
+    /// A, B, C words (lenient dialect): the rotary axes of a post written for
+    /// a machine that has them. Pass 04 drops them while they stay where they
+    /// are, and refuses the first that would turn.
+    Rotary([Option<Value>; 3]),
+    /// An M code ger does not know (lenient dialect), passed to the output as
+    /// it came (`M62 P1`): I/O, clamps, user and vendor codes. `code` is its
+    /// number times ten, as the parser numbers codes.
+    PassThrough {
+        code: u32,
+        words: Vec<(char, f64)>,
+    },
+    /// G93 (inverse time), G94 (per minute), G95 (per revolution): pass 04
+    /// turns every feed into units per minute, the output's only mode.
+    FeedMode(FeedMode),
+    /// G90.1 (absolute) / G91.1 (relative, the output's mode): how I, J and K
+    /// give an arc's centre.
+    ArcCentres(Distance),
+    /// G28.1 / G30.1: the reference point becomes where the tool is.
+    SetReference(Reference),
+    /// G5, G5.1, G5.2 and its control points.
+    Spline(Box<Spline>),
+    /// G5.3: the end of a NURBS, which is drawn here.
+    NurbsEnd,
     /// G10 L2 (`relative` false): entry `entry` of the work-offsets table (0:
     /// the one in force) is set to the given machine coordinates; G10 L20
     /// (`relative`): set so that the current position reads as given.

@@ -127,6 +127,7 @@ const NOT_CLEAN: &[(&str, &str)] = &[
     ("tests/lenient/canned_cycles.ngc", "drills with tool 1, a quarter-inch endmill"),
     ("tests/lenient/real_world_blocks.ngc", "plunges the endmill 0.25 in, a Haas drilling block"),
     ("tests/lenient/no_effect_spindle_tool.ngc", "loads tool 2, which its tool table does not have"),
+    ("tests/lenient/tapping_and_other_planes.ngc", "taps and drills with tool 1, a quarter-inch endmill"),
 ];
 
 /// Every example, and every case whose translation is clean, checks clean. A

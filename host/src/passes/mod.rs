@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 use std::io::BufRead;
 use std::rc::Rc;
 
-use crate::config::Config;
+use crate::config::{Config, DialectConfig};
 use crate::diag::Diagnostic;
 use crate::expand::Wizards;
 use crate::lex::Lexer;
@@ -29,12 +29,19 @@ pub mod p03_polar;
 pub mod p04_absolute;
 pub mod p05_cutter_comp;
 
-pub use p00_subprograms::Library;
 use p00_subprograms::WizardRuntime;
+pub use p00_subprograms::{Body, Library};
 
 /// A pass that rewrites one statement at a time.
 pub trait Pass {
     fn statement(&mut self, statement: Statement, out: &mut Out);
+    /// Goes on with work a statement left unfinished, a piece at a time, so a
+    /// long expansion (a canned cycle repeated L times) never sits whole in
+    /// `out`; false when there is none. Called whenever `out` is empty,
+    /// before the next statement is read.
+    fn resume(&mut self, _out: &mut Out) -> bool {
+        false
+    }
     /// Called once after the last statement.
     fn finish(&mut self, _out: &mut Out) {}
 }
@@ -53,7 +60,11 @@ impl Out {
 
     /// Reports a problem with `statement`, naming the calls it runs in.
     pub fn error(&mut self, statement: &Statement, diagnostic: Diagnostic) {
-        let diagnostic = diagnostic.with_origin(statement.origin.clone());
+        self.report(diagnostic.with_origin(statement.origin.clone()));
+    }
+
+    /// Reports a diagnostic that already names its calls.
+    pub fn report(&mut self, diagnostic: Diagnostic) {
         self.events.push_back(Event::Diagnostic(diagnostic));
     }
 }
@@ -80,6 +91,9 @@ impl<I: Iterator<Item = Event>, P: Pass> Iterator for Stage<I, P> {
             if let Some(event) = self.out.events.pop_front() {
                 return Some(event);
             }
+            if self.pass.resume(&mut self.out) {
+                continue;
+            }
             match self.upstream.next() {
                 Some(Event::Statement(statement)) => self.pass.statement(statement, &mut self.out),
                 Some(diagnostic) => return Some(diagnostic),
@@ -104,6 +118,12 @@ pub struct Options<'a> {
     pub wizards: &'a mut dyn Wizards,
 }
 
+/// Lexes and parses a program in the configured dialect: the statements
+/// before any pass.
+pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
+    parse_in(Lexer::in_dialect(program, dialect.name), dialect.name).with_code_lists(dialect.codes.clone())
+}
+
 /// Lexes, parses and simplifies a program, yielding the statements and
 /// diagnostics as they are after pass `options.stage`. `library` finds
 /// subprograms that are called before they are defined.
@@ -113,6 +133,7 @@ pub fn translate<'a, R: BufRead + 'a>(
     options: Options<'a>,
 ) -> Box<dyn Iterator<Item = Event> + 'a> {
     let Options { config, stage, wizards } = options;
+    wizards.start();
     let probe = state::probe(config.units);
     // Every pass runs whatever the stage shown: wizards are told the state
     // that passes 01-04 keep, so they must see every statement.
@@ -125,21 +146,32 @@ pub fn translate<'a, R: BufRead + 'a>(
         }
     };
     let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
-    let parsed = parse_in(Lexer::in_dialect(program, config.dialect), config.dialect);
+    let parsed = parse(program, &config.dialect);
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
     let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
-    let stream =
-        tapped(Box::new(Stage::new(stream, p02_offsets::Offsets::new(config.offsets.clone(), probe.clone()))), 2);
-    let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
     let stream = tapped(
-        Box::new(Stage::new(stream, p04_absolute::Absolute::new(config.units, config.machine.second_reference, probe))),
-        4,
+        Box::new(Stage::new(stream, p02_offsets::Offsets::new(&config.offsets, config.dialect.name, probe.clone()))),
+        2,
     );
+    let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
+    let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config, probe))), 4);
     let stream = Box::new(Stage::new(stream, p05_cutter_comp::CutterComp::new(config)));
-    if stage == LAST_STAGE {
-        stream
-    } else {
-        Box::new(tap.drain(stream))
+    let shown: Box<dyn Iterator<Item = Event> + 'a> =
+        if stage == LAST_STAGE { stream } else { Box::new(tap.drain(stream)) };
+    Box::new(shown.map(only_finite))
+}
+
+/// Nothing non-finite leaves the translator: the lexer bounds every number,
+/// so this is the net under arithmetic that went wrong (a division by a
+/// near-zero length), reported at the statement that made it.
+fn only_finite(event: Event) -> Event {
+    match event {
+        Event::Statement(statement) if !statement.is_finite() => Event::Diagnostic(
+            Diagnostic::error(statement.span, "this statement works out to a number too large to write")
+                .with_help("a length or angle here is out of any machine's range: check the numbers it is made from")
+                .with_origin(statement.origin.clone()),
+        ),
+        event => event,
     }
 }
 
@@ -177,7 +209,7 @@ pub(crate) mod testing {
 
     /// The program after `stage`, one line per statement or diagnostic.
     pub fn run_with(text: &str, config: &Config, stage: u8) -> Vec<String> {
-        let library = library(text, config.dialect);
+        let library = library(text, &config.dialect);
         let emitter = Emitter::new(config.units.decimals(), false);
         let options = Options { config, stage, wizards: &mut NoWizards };
         translate(text.as_bytes(), library, options)
@@ -189,9 +221,9 @@ pub(crate) mod testing {
     }
 
     /// The subprograms of `text`, and `text` again for M47.
-    fn library(text: &str, dialect: crate::statement::Dialect) -> Library<'_> {
+    fn library<'a>(text: &'a str, dialect: &'a crate::config::DialectConfig) -> Library<'a> {
         Library::scanning(move || Library::scan(text.as_bytes(), dialect))
-            .with_restart(move || Box::new(parse_in(Lexer::in_dialect(text.as_bytes(), dialect), dialect)))
+            .with_restart(move || Box::new(parse(text.as_bytes(), dialect)))
     }
 
     pub fn run(text: &str, stage: u8) -> Vec<String> {
@@ -200,7 +232,7 @@ pub(crate) mod testing {
 
     /// The statements after the last pass (diagnostics make the test fail).
     pub fn statements_with(text: &str, config: &Config) -> Vec<Statement> {
-        let library = library(text, config.dialect);
+        let library = library(text, &config.dialect);
         let options = Options { config, stage: LAST_STAGE, wizards: &mut NoWizards };
         translate(text.as_bytes(), library, options)
             .map(|event| match event {

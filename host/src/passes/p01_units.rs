@@ -1,6 +1,7 @@
 //! Pass 01: units. G20/G21 say what unit the program is written in; this pass
 //! converts every length (X Y Z, I J K, R, F, G52/G92 values, G43/G44 Z) to
-//! the machine's unit and drops the G20/G21 statements. Until the program says
+//! the machine's unit and drops the G20/G21 statements; splines' points and
+//! offsets are lengths too. Until the program says
 //! otherwise it is taken to be in the machine's unit. In polar mode (G16) the
 //! word for the plane's second axis is an angle, and stays as it is. The units
 //! may not change while cutter radius compensation (G41/G42) is on: the radius
@@ -61,10 +62,16 @@ impl Pass for Units {
             Kind::Offset { axes, .. } | Kind::SetWorkOffset { axes, .. } | Kind::Home { via: axes, .. } => {
                 *axes = axes.map(|_, v| v * factor)
             }
-            Kind::ToolLength { z, .. } => scale(z),
             Kind::MachineMove(m) => {
                 m.target = m.target.map(|_, v| v * factor);
                 scale(&mut m.feed);
+            }
+            // A NURBS weight is not a length; G5's P and Q (in `second`) are.
+            Kind::Spline(spline) => {
+                for axes in [&mut spline.target, &mut spline.first, &mut spline.second] {
+                    *axes = axes.map(|_, v| v * factor);
+                }
+                scale(&mut spline.feed);
             }
             Kind::Cycle(cycle) => {
                 cycle.target = cycle.target.map(|_, v| v * factor);
@@ -86,10 +93,19 @@ mod tests {
 
     #[test]
     fn millimetres_become_inches_on_an_inch_machine() {
-        let got = run("G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG43 Z5.08 H1\nG20\nG01 X1", 1);
+        // G43's Z is a move in the mode in force, converted like any other.
+        let got = run("G21\nG01 X25.4 Y-12.7 F254\nG02 X50.8 R12.7\nG52 X2.54\nG00\nG43 Z5.08 H1\nG20\nG01 X1", 1);
         assert_eq!(
             got,
-            ["G01 X1.0000 Y-0.5000 F10.0000", "G02 X2.0000 R0.5000", "G52 X0.1000", "G43 Z0.2000 H1", "G01 X1.0000",]
+            [
+                "G01 X1.0000 Y-0.5000 F10.0000",
+                "G02 X2.0000 R0.5000",
+                "G52 X0.1000",
+                "G00",
+                "G43 H1",
+                "G00 Z0.2000",
+                "G01 X1.0000",
+            ]
         );
     }
 

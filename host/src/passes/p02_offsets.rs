@@ -2,8 +2,8 @@
 //! this pass adds the current PRZ to every absolute coordinate, so the output
 //! is relative to machine zero, and drops the offset statements. In the
 //! lenient dialect it also takes G10 L2/L20 (which rewrite the work-offsets
-//! table), and puts canned cycles and G28/G30's intermediate points in
-//! machine coordinates; G53 moves are in them already.
+//! table), and puts canned cycles, splines and G28/G30's intermediate points
+//! in machine coordinates; G53 moves are in them already.
 //!
 //! None of these codes may be used in polar (G16), incremental (G91) or
 //! cutter comp (G41/G42) mode. G92 and G10 L20 need the tool's position: they
@@ -11,18 +11,29 @@
 //! look-ahead, so it is the position before this statement).
 
 use super::{Out, Pass};
-use crate::config::WorkOffsets;
+use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
 use crate::state::Probe;
-use crate::statement::{Axes, Distance, Kind, Offset, Statement};
+use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Plane, Statement};
 
 pub struct Offsets {
-    /// G54..G59, in machine coordinates.
-    table: [[f64; 3]; 6],
+    /// G54..G59.3 and the extended offsets, in machine coordinates.
+    table: Vec<[f64; 3]>,
     /// Machine coordinates of program zero.
     prz: [f64; 3],
     /// The table entry program zero comes from, if it does (not after G52/G92).
     entry_in_force: Option<u8>,
+    /// The coordinate system last selected (G54 until another): G92.1-G92.3
+    /// put program zero back on it.
+    system: u8,
+    /// The G52/G92 offset from that system, as LinuxCNC keeps it for G92.3.
+    kept_g92: [f64; 3],
+    /// G90.1: I, J and K are absolute, so they move with program zero.
+    absolute_centres: bool,
+    /// The lenient dialect changes program zero in G91, as LinuxCNC does.
+    dialect: Dialect,
+    /// Canned cycles drill along the plane's normal.
+    plane: Plane,
     distance: Distance,
     polar: bool,
     comp: bool,
@@ -30,11 +41,16 @@ pub struct Offsets {
 }
 
 impl Offsets {
-    pub fn new(table: WorkOffsets, probe: Probe) -> Offsets {
+    pub fn new(table: &WorkOffsets, dialect: Dialect, probe: Probe) -> Offsets {
         Offsets {
-            table: std::array::from_fn(|i| table.entry(i as u8 + 1)),
+            table: (1..=WORK_OFFSETS).map(|entry| table.entry(entry as u8)).collect(),
             prz: [0.0; 3],
             entry_in_force: None,
+            system: 1,
+            kept_g92: [0.0; 3],
+            absolute_centres: false,
+            dialect,
+            plane: Plane::XY,
             distance: Distance::Absolute,
             polar: false,
             comp: false,
@@ -45,7 +61,7 @@ impl Offsets {
     fn mode_forbidding_offsets(&self) -> Option<(&'static str, &'static str)> {
         if self.polar {
             Some(("polar coordinates (G16) are on", "turn them off with G15 first"))
-        } else if self.distance == Distance::Incremental {
+        } else if self.distance == Distance::Incremental && self.dialect == Dialect::Strict {
             Some(("incremental mode (G91) is on", "switch to absolute mode with G90 first"))
         } else if self.comp {
             Some(("cutter radius compensation (G41/G42) is on", "cancel it with G40 first"))
@@ -89,10 +105,30 @@ impl Pass for Offsets {
                 }
                 let given = |axis: usize| axes.get(axis).map_or(0.0, |v| v.value);
                 let position = self.probe.borrow().position;
+                let system = self.table[usize::from(self.system - 1)];
                 match code {
-                    Offset::G52 => self.set_prz([given(0), given(1), given(2)], None),
-                    Offset::WorkOffset(entry) => self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry)),
-                    Offset::G92 => self.set_prz(std::array::from_fn(|axis| position[axis] - given(axis)), None),
+                    Offset::G52 | Offset::G92 => {
+                        let prz = match code {
+                            Offset::G52 => [given(0), given(1), given(2)],
+                            _ => std::array::from_fn(|axis| position[axis] - given(axis)),
+                        };
+                        self.kept_g92 = std::array::from_fn(|axis| prz[axis] - system[axis]);
+                        self.set_prz(prz, None);
+                    }
+                    Offset::WorkOffset(entry) => {
+                        self.system = *entry;
+                        self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry));
+                    }
+                    Offset::G92Cancel { keep } => {
+                        if !*keep {
+                            self.kept_g92 = [0.0; 3];
+                        }
+                        self.set_prz(system, Some(self.system));
+                    }
+                    Offset::G92Restore => {
+                        let prz = std::array::from_fn(|axis| system[axis] + self.kept_g92[axis]);
+                        self.set_prz(prz, None);
+                    }
                 }
                 return;
             }
@@ -100,7 +136,7 @@ impl Pass for Offsets {
                 if self.comp {
                     return out.error(&statement, comp_refuses("G10"));
                 }
-                let entry = if *entry == 0 { self.entry_in_force.unwrap_or(1) } else { *entry };
+                let entry = if *entry == 0 { self.system } else { *entry };
                 let position = self.probe.borrow().position;
                 let row = &mut self.table[usize::from(entry - 1)];
                 for (axis, value) in row.iter_mut().enumerate() {
@@ -113,13 +149,19 @@ impl Pass for Offsets {
                 }
                 return;
             }
-            Kind::Motion(motion) => motion.target = self.to_machine(motion.target),
-            Kind::ToolLength { z: Some(z), .. } if self.distance == Distance::Absolute => z.value += self.prz[2],
+            Kind::ArcCentres(distance) => self.absolute_centres = *distance == Distance::Absolute,
+            Kind::Motion(motion) => {
+                motion.target = self.to_machine(motion.target);
+                if self.absolute_centres {
+                    motion.centre = motion.centre.map(|axis, v| v + self.prz[axis]);
+                }
+            }
+            Kind::Plane(plane) => self.plane = *plane,
             Kind::Cycle(cycle) => {
                 cycle.target = self.to_machine(cycle.target);
-                // R is a Z level like the bottom, Z.
+                // R is a level along the hole, like its bottom: Z in G17, Y in G18, X in G19.
                 if let (Distance::Absolute, Some(r)) = (self.distance, &mut cycle.r) {
-                    r.value += self.prz[2];
+                    r.value += self.prz[self.plane.axes().2];
                 }
             }
             Kind::Home { reference, via } => {
@@ -130,6 +172,13 @@ impl Pass for Offsets {
                 *via = self.to_machine(*via);
             }
             Kind::MachineMove(_) if self.comp => return out.error(&statement, comp_refuses("G53")),
+            // As in LinuxCNC ("Cannot convert spline with cutter radius compensation").
+            Kind::Spline(spline) if self.comp => {
+                let code = spline.code.map_or("G5.2", |c| c.code());
+                return out.error(&statement, comp_refuses(code));
+            }
+            Kind::NurbsEnd if self.comp => return out.error(&statement, comp_refuses("G5.3")),
+            Kind::Spline(spline) => spline.target = self.to_machine(spline.target),
             _ => {}
         }
         out.push(statement);

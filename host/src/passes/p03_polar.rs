@@ -47,7 +47,7 @@ impl Pass for Polar {
                 out.error(&statement, diagnostic);
                 return;
             }
-            Kind::Cycle(_) | Kind::Home { .. } | Kind::MachineMove(_) if self.on => {
+            Kind::Cycle(_) | Kind::Home { .. } | Kind::MachineMove(_) | Kind::Spline(_) | Kind::NurbsEnd if self.on => {
                 let diagnostic = Diagnostic::error(statement.span, "not allowed in polar coordinates (G16)")
                     .with_help("turn polar coordinates off with G15 first");
                 out.error(&statement, diagnostic);

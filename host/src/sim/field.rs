@@ -1,6 +1,8 @@
 //! The height field: one Z per XY cell of the stock, stored in square tiles so
 //! that threads can cut different tiles at once.
 
+use std::collections::TryReserveError;
+
 use super::Stock;
 
 /// Cells along a tile's side.
@@ -33,14 +35,18 @@ impl HeightField {
         (count(stock.max[0] - stock.min[0]), count(stock.max[1] - stock.min[1]))
     }
 
-    /// Uncut stock. The caller has checked the size against the memory limit.
-    pub fn new(stock: Stock, cell: f64) -> HeightField {
+    /// Uncut stock. The caller has checked the size against the memory limit;
+    /// the system may still not have that much memory to give.
+    pub fn new(stock: Stock, cell: f64) -> Result<HeightField, TryReserveError> {
         let (nx, ny) = Self::cells(&stock, cell);
         // Cells tile the stock exactly: stretch the cell a little if the size is not a multiple.
         let cell = (stock.max[0] - stock.min[0]) / nx as f64;
         let (tiles_x, tiles_y) = (nx.div_ceil(TILE), ny.div_ceil(TILE));
-        let data = vec![stock.max[2] as f32; tiles_x * tiles_y * TILE * TILE];
-        HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data }
+        let count = tiles_x * tiles_y * TILE * TILE;
+        let mut data = Vec::new();
+        data.try_reserve_exact(count)?;
+        data.resize(count, stock.max[2] as f32);
+        Ok(HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data })
     }
 
     /// A cell's side along Y (equal to `cell` unless the stock's Y is not a multiple of it).

@@ -8,6 +8,7 @@
 use std::f64::consts::TAU;
 
 use crate::diag::Span;
+use crate::geom::arc_sweep;
 use crate::statement::{Kind, Machine, MotionMode, Plane, Statement};
 
 pub type Point = [f64; 3];
@@ -213,15 +214,8 @@ impl Walker {
         if radius == 0.0 {
             return Segment::Line { from, to };
         }
-        let start = (from[b] - centre[b]).atan2(from[a] - centre[a]);
-        let end = (to[b] - centre[b]).atan2(to[a] - centre[a]);
         let ccw = self.mode == MotionMode::ArcCcw;
-        // Start and end on the same angle is a full circle.
-        let closed = (from[a] - to[a]).hypot(from[b] - to[b]) <= 1e-9 * radius.max(1.0);
-        let mut sweep = if ccw { (end - start).rem_euclid(TAU) } else { -(start - end).rem_euclid(TAU) };
-        if closed {
-            sweep = if ccw { TAU } else { -TAU };
-        }
+        let (start, sweep) = arc_sweep((from[a], from[b]), (to[a], to[b]), (centre[a], centre[b]), ccw);
         Segment::Arc { from, to, centre, plane: self.plane, radius, start, sweep }
     }
 }

@@ -19,6 +19,21 @@ pub struct CycleState {
     r: Option<f64>,
     q: Option<f64>,
     p: Option<f64>,
+    /// The holes of the cycle block being expanded, made one at a time.
+    pending: Option<Holes>,
+}
+
+/// A cycle block's holes still to drill: its L repeats share the levels
+/// worked out where the block began.
+struct Holes {
+    statement: Statement,
+    left: u32,
+    /// Where along the hole's axis the block began: G98 retracts there.
+    start: f64,
+    r_plane: f64,
+    bottom: f64,
+    q: Option<f64>,
+    p: Option<f64>,
 }
 
 /// How far a peck backs off (G73), or stops above the last peck (G83): LinuxCNC's 0.010 in.
@@ -26,8 +41,14 @@ fn peck_clearance(units: Units) -> f64 {
     0.01 * Units::Inch.factor_to(units)
 }
 
+/// The most pecks one hole may take: a hole's moves are made at once, so a
+/// Q far too small for the depth is an error, not an endless expansion.
+pub const MAX_PECKS: f64 = 10_000.0;
+
 impl Absolute {
-    pub(super) fn cycle(&mut self, cycle: &Cycle, statement: &Statement, out: &mut Out) -> Result<(), Diagnostic> {
+    /// Reads a cycle block: its words (carried over from the cycle before
+    /// where not given) and levels. The holes are made by [`Absolute::next_hole`].
+    pub(super) fn cycle(&mut self, cycle: &Cycle, statement: &Statement) -> Result<(), Diagnostic> {
         let code = cycle.code.code();
         let sticky = &mut self.cycles;
         let given = |v: Option<crate::statement::Value>, keep: &mut Option<f64>| {
@@ -36,7 +57,9 @@ impl Absolute {
             }
             *keep
         };
-        let z = given(cycle.target.z, &mut sticky.z);
+        // The hole runs along the plane's normal: Z in G17, Y in G18, X in G19.
+        let n = self.plane.axes().2;
+        let z = given(cycle.target.get(n), &mut sticky.z);
         let r = given(cycle.r, &mut sticky.r);
         let q = given(cycle.q, &mut sticky.q);
         let p = given(cycle.p, &mut sticky.p);
@@ -47,8 +70,11 @@ impl Absolute {
             Diagnostic::error(statement.span, format!("{code} needs {what}"))
                 .with_help(format!("write e.g. {code} X.. Y.. Z-1 R0.1 F10 (Q for pecking, P for dwelling)"))
         };
+        let depth = ["X", "Y", "Z"][n];
         let (z, r) = (
-            z.ok_or_else(|| missing("a Z word: the bottom of the hole"))?,
+            z.ok_or_else(|| {
+                missing(&format!("{} {depth} word: the bottom of the hole", if n == 0 { "an" } else { "a" }))
+            })?,
             r.ok_or_else(|| missing("an R word: the plane it starts from"))?,
         );
         let q = match cycle.code {
@@ -59,88 +85,138 @@ impl Absolute {
             CycleCode::DrillDwell | CycleCode::BoreSpindleStop | CycleCode::BoreDwell => {
                 Some(p.ok_or_else(|| missing("a P word: the dwell in seconds"))?)
             }
+            CycleCode::Tap | CycleCode::TapLeft => p,
             _ => None,
         };
         if self.feed.is_none() {
             return Err(Diagnostic::error(statement.span, format!("{code} before any feed rate (F)"))
                 .with_help(format!("give the feed on the cycle, e.g. {code} ... F10")));
         }
-        for _ in 0..cycle.repeat {
-            let start_z = self.position[2];
-            let (r_plane, bottom) = match self.distance {
-                Distance::Absolute => (r, z),
-                Distance::Incremental => (start_z + r, start_z + r + z),
-            };
-            if bottom > r_plane {
-                return Err(Diagnostic::error(statement.span, format!("{code}: the bottom Z is above the R plane"))
-                    .with_help("Z is the bottom of the hole and must be below R"));
-            }
-            let mut over_hole = self.position;
-            for (axis, coordinate) in over_hole.iter_mut().enumerate().take(2) {
-                if let Some(v) = cycle.target.get(axis) {
-                    *coordinate = self.absolute(axis, v).value;
-                }
-            }
-            let clear = match self.cycles.retract {
-                Retract::Initial => start_z.max(r_plane),
-                Retract::RPlane => r_plane,
-            };
-            let at = |z: f64| [over_hole[0], over_hole[1], z];
-            if start_z < r_plane {
-                let up = [self.position[0], self.position[1], r_plane];
-                self.rapid_to(up, statement, out);
-            }
-            let travel_z = start_z.max(r_plane);
-            self.rapid_to(at(travel_z), statement, out);
-            self.rapid_to(at(r_plane), statement, out);
-            let clearance = peck_clearance(self.units);
-            match cycle.code {
-                CycleCode::Drill => self.move_to(MotionMode::Linear, at(bottom), statement, out),
-                CycleCode::DrillDwell => {
-                    self.move_to(MotionMode::Linear, at(bottom), statement, out);
-                    self.dwell(p, statement, out);
-                }
-                CycleCode::Peck | CycleCode::ChipBreak => {
-                    let q = q.expect("checked above");
-                    let mut depth = r_plane;
-                    loop {
-                        let next = (depth - q).max(bottom);
-                        self.move_to(MotionMode::Linear, at(next), statement, out);
-                        if next <= bottom {
-                            break;
-                        }
-                        if cycle.code == CycleCode::Peck {
-                            self.rapid_to(at(r_plane), statement, out);
-                        }
-                        self.rapid_to(at(next + clearance), statement, out);
-                        depth = next;
-                    }
-                }
-                CycleCode::Bore => {
-                    self.move_to(MotionMode::Linear, at(bottom), statement, out);
-                    self.move_to(MotionMode::Linear, at(r_plane), statement, out);
-                }
-                CycleCode::BoreSpindleStop => {
-                    self.move_to(MotionMode::Linear, at(bottom), statement, out);
-                    self.dwell(p, statement, out);
-                    let restart = self.probe.borrow().spindle;
-                    self.spindle(Machine::SpindleOff, None, statement, out);
-                    self.rapid_to(at(clear), statement, out);
-                    match restart {
-                        Spindle::Clockwise(s) => self.spindle(Machine::SpindleCw, s, statement, out),
-                        Spindle::CounterClockwise(s) => self.spindle(Machine::SpindleCcw, s, statement, out),
-                        Spindle::Off => {}
-                    }
-                }
-                CycleCode::BoreDwell => {
-                    self.move_to(MotionMode::Linear, at(bottom), statement, out);
-                    self.dwell(p, statement, out);
-                    self.move_to(MotionMode::Linear, at(clear), statement, out);
-                }
-            }
-            self.rapid_to(at(clear), statement, out);
+        let start = self.position[n];
+        let (r_plane, bottom) = match self.distance {
+            Distance::Absolute => (r, z),
+            Distance::Incremental => (start + r, start + r + z),
+        };
+        if bottom > r_plane {
+            return Err(Diagnostic::error(statement.span, format!("{code}: the bottom {depth} is above the R plane"))
+                .with_help(format!("{depth} is the bottom of the hole and must be below R")));
+        }
+        if let Some(q) = q.filter(|q| (r_plane - bottom) / q > MAX_PECKS) {
+            let (u, d) = (self.units.abbreviation(), self.units.decimals());
+            let message = format!(
+                "{code}: pecks of {q:.d$} {u} down {:.d$} {u} make more than {MAX_PECKS} pecks",
+                r_plane - bottom
+            );
+            return Err(
+                Diagnostic::error(statement.span, message).with_help("Q is the depth of each peck: give a larger one")
+            );
+        }
+        // L0 (Fanuc's K0) keeps the cycle's words and drills nothing.
+        if cycle.repeat > 0 {
+            let statement = statement.clone();
+            self.cycles.pending = Some(Holes { statement, left: cycle.repeat, start, r_plane, bottom, q, p });
         }
         Ok(())
+    }
+
+    /// Drills the next hole of the cycle block being expanded; false when
+    /// there is none. In G91 each repeat steps X/Y again.
+    pub(super) fn next_hole(&mut self, out: &mut Out) -> bool {
+        let Some(mut holes) = self.cycles.pending.take() else { return false };
+        let Kind::Cycle(cycle) = &holes.statement.kind else { unreachable!("holes come from a cycle") };
+        let statement = &holes.statement;
+        let (a, b, n) = self.plane.axes();
+        let (r_plane, bottom) = (holes.r_plane, holes.bottom);
+        let mut over_hole = self.position;
+        for axis in [a, b] {
+            if let Some(v) = cycle.target.get(axis) {
+                over_hole[axis] = self.absolute(axis, v).value;
+            }
+        }
+        let clear = match self.cycles.retract {
+            Retract::Initial => holes.start.max(r_plane),
+            Retract::RPlane => r_plane,
+        };
+        let at = |depth: f64| {
+            let mut point = over_hole;
+            point[n] = depth;
+            point
+        };
+        if self.position[n] < r_plane {
+            let mut up = self.position;
+            up[n] = r_plane;
+            self.rapid_to(up, statement, out);
+        }
+        self.rapid_to(at(self.position[n].max(r_plane)), statement, out);
+        self.rapid_to(at(r_plane), statement, out);
+        let clearance = peck_clearance(self.units);
+        match cycle.code {
+            CycleCode::Drill => self.move_to(MotionMode::Linear, at(bottom), statement, out),
+            CycleCode::DrillDwell => {
+                self.move_to(MotionMode::Linear, at(bottom), statement, out);
+                self.dwell(holes.p, statement, out);
+            }
+            CycleCode::Peck | CycleCode::ChipBreak => {
+                let q = holes.q.expect("checked with the block");
+                let mut depth = r_plane;
+                loop {
+                    let next = (depth - q).max(bottom);
+                    self.move_to(MotionMode::Linear, at(next), statement, out);
+                    if next <= bottom {
+                        break;
+                    }
+                    if cycle.code == CycleCode::Peck {
+                        self.rapid_to(at(r_plane), statement, out);
+                    }
+                    self.rapid_to(at(next + clearance), statement, out);
+                    depth = next;
+                }
+            }
+            CycleCode::Bore => {
+                self.move_to(MotionMode::Linear, at(bottom), statement, out);
+                self.move_to(MotionMode::Linear, at(r_plane), statement, out);
+            }
+            CycleCode::BoreSpindleStop => {
+                self.move_to(MotionMode::Linear, at(bottom), statement, out);
+                self.dwell(holes.p, statement, out);
+                let restart = self.probe.borrow().spindle;
+                self.spindle(Machine::SpindleOff, None, statement, out);
+                self.rapid_to(at(clear), statement, out);
+                match restart {
+                    Spindle::Clockwise(s) => self.spindle(Machine::SpindleCw, s, statement, out),
+                    Spindle::CounterClockwise(s) => self.spindle(Machine::SpindleCcw, s, statement, out),
+                    Spindle::Off => {}
+                }
+            }
+            CycleCode::BoreDwell => {
+                self.move_to(MotionMode::Linear, at(bottom), statement, out);
+                self.dwell(holes.p, statement, out);
+                self.move_to(MotionMode::Linear, at(clear), statement, out);
+            }
+            // LinuxCNC's G84: feed in, reverse the spindle, dwell, feed out
+            // all the way to the retract level, turn the spindle back.
+            CycleCode::Tap | CycleCode::TapLeft => {
+                let (inward, outward) = match cycle.code {
+                    CycleCode::Tap => (Machine::SpindleCw, Machine::SpindleCcw),
+                    _ => (Machine::SpindleCcw, Machine::SpindleCw),
+                };
+                let speed = match self.probe.borrow().spindle {
+                    Spindle::Clockwise(s) | Spindle::CounterClockwise(s) => s,
+                    Spindle::Off => None,
+                };
+                self.move_to(MotionMode::Linear, at(bottom), statement, out);
+                self.spindle(outward, speed, statement, out);
+                self.dwell(holes.p, statement, out);
+                self.move_to(MotionMode::Linear, at(clear), statement, out);
+                self.spindle(inward, speed, statement, out);
+            }
+        }
+        self.rapid_to(at(clear), statement, out);
+        holes.left -= 1;
+        if holes.left > 0 {
+            self.cycles.pending = Some(holes);
+        }
+        true
     }
 
     fn dwell(&mut self, seconds: Option<f64>, statement: &Statement, out: &mut Out) {

@@ -4,48 +4,82 @@
 //! arc, R < 0 the long one); a full circle needs I/J/K; the end must lie on
 //! the circle. This pass also settles the feed: a feed move needs an F before
 //! it, F is written on the first feed move after it changes, and a statement
-//! that only sets F disappears.
+//! that only sets F disappears. The lenient dialect's canned cycles
+//! (`cycles.rs`) and splines (`splines.rs`) become plain moves here.
 
 use super::{Out, Pass};
+use crate::config::Config;
 use crate::diag::{Diagnostic, Span};
-use crate::geom::{centre_from_radius, RadiusArcError};
+use crate::geom::{arc_sweep, centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
-use crate::statement::{Axes, Distance, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Units, Value};
+use crate::statement::{
+    Axes, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Units, Value,
+};
 
 mod cycles;
+mod splines;
 
 pub struct Absolute {
     units: Units,
+    dialect: Dialect,
     distance: Distance,
     plane: Plane,
     position: [f64; 3],
+    /// F as programmed: units per minute, per revolution (G95) or the
+    /// inverse of minutes (G93, one move only).
     feed: Option<f64>,
+    feed_mode: FeedMode,
     /// The feed the output last said, so F is written only when it changes.
     feed_written: Option<f64>,
+    /// `[machine] default_feed`, for a feed move before any F (lenient).
+    default_feed: Option<f64>,
+    warned_default_feed: bool,
+    /// G90.1: I, J and K are absolute (pass 02 has put them in machine coordinates).
+    absolute_centres: bool,
     probe: Probe,
-    /// G30's point, in machine coordinates.
+    /// G28's point (machine zero until G28.1) and G30's, in machine coordinates.
+    home: [f64; 3],
     second_reference: [f64; 3],
     /// The lenient dialect's S and T words alone: a speed and a tool waiting
     /// for the M03/M04 and M06 that use them.
     speed: Option<f64>,
     selected_tool: Option<u32>,
     cycles: cycles::CycleState,
+    splines: splines::SplineState,
+    /// G43 (true) or G44 (false) in force, for an H word given alone.
+    tool_length: Option<bool>,
+    /// Where the A, B and C words have put the rotary axes, once said.
+    rotary: [Option<f64>; 3],
+    warned_rotary: bool,
+    /// Warnings about the statement being rewritten, given its calls after it.
+    warnings: Vec<Diagnostic>,
 }
 
 impl Absolute {
-    pub fn new(units: Units, second_reference: [f64; 3], probe: Probe) -> Absolute {
+    pub fn new(config: &Config, probe: Probe) -> Absolute {
         Absolute {
-            units,
+            units: config.units,
+            dialect: config.dialect.name,
             distance: Distance::Absolute,
             plane: Plane::XY,
             position: [0.0; 3],
             feed: None,
+            feed_mode: FeedMode::PerMinute,
             feed_written: None,
+            default_feed: config.machine.default_feed,
+            warned_default_feed: false,
+            absolute_centres: false,
             probe,
-            second_reference,
+            home: [0.0; 3],
+            second_reference: config.machine.second_reference,
             speed: None,
             selected_tool: None,
             cycles: cycles::CycleState::default(),
+            splines: splines::SplineState::new(config),
+            tool_length: None,
+            rotary: [None; 3],
+            warned_rotary: false,
+            warnings: Vec::new(),
         }
     }
 
@@ -57,14 +91,30 @@ impl Absolute {
     }
 
     /// The arc's centre offsets from its start (I/J/K), or why it has none.
-    fn arc_centre(&self, motion: &Motion, end: [f64; 3], span: Span) -> Result<Axes, Diagnostic> {
+    fn arc_centre(&self, motion: &mut Motion, end: [f64; 3], span: Span) -> Result<Axes, Diagnostic> {
         let (a, b, normal) = self.plane.axes();
         let letters = ['I', 'J', 'K'];
         if let Some(v) = motion.centre.get(normal) {
-            let plane = self.plane.code();
-            let message = format!("{} is not used for arcs in the {plane} plane", letters[normal]);
-            return Err(Diagnostic::error(v.span, message)
-                .with_help(format!("in {plane} the centre is given by {} and {}", letters[a], letters[b])));
+            // A post writing all three offsets (`K0` on a G17 arc) says nothing
+            // with the third; the lenient dialect reads past it.
+            if self.dialect == Dialect::Lenient && !self.absolute_centres && v.value == 0.0 {
+                *motion.centre.slot(normal) = None;
+            } else {
+                let plane = self.plane.code();
+                let message = format!("{} is not used for arcs in the {plane} plane", letters[normal]);
+                return Err(Diagnostic::error(v.span, message)
+                    .with_help(format!("in {plane} the centre is given by {} and {}", letters[a], letters[b])));
+            }
+        }
+        if self.absolute_centres && motion.radius.is_none() {
+            for axis in [a, b] {
+                let Some(v) = motion.centre.slot(axis) else {
+                    let message = format!("with G90.1 an arc needs both {} and {}: its centre", letters[a], letters[b]);
+                    return Err(Diagnostic::error(span, message)
+                        .with_help("absolute I/J/K give the centre's coordinates, so none may be left out"));
+                };
+                v.value -= self.position[axis];
+            }
         }
         let start = (self.position[a], self.position[b]);
         let stop = (end[a], end[b]);
@@ -103,7 +153,10 @@ impl Absolute {
         if start_radius <= tolerance {
             return Err(Diagnostic::error(span, "arc radius is zero: its centre is at its start"));
         }
-        if (start_radius - end_radius).abs() > tolerance {
+        let error = (start_radius - end_radius).abs();
+        if error > tolerance
+            && !(self.dialect == Dialect::Lenient && error <= self.linuxcnc_arc_tolerance(start_radius))
+        {
             let message = format!(
                 "arc end is not on the circle: radius {start_radius:.d$} {u} at the start, {end_radius:.d$} {u} at the end"
             );
@@ -111,25 +164,46 @@ impl Absolute {
             return Err(Diagnostic::error(span, message).with_help(help));
         }
         let mut offsets = motion.centre;
+        if error > tolerance {
+            // Within LinuxCNC's tolerance but not the output's: the centre
+            // moves onto the chord's bisector, the nearest point from which
+            // start and end are equally far, so every controller takes it.
+            let (cx, cy) = nearest_equidistant(start, stop, (start.0 + i, start.1 + j));
+            *offsets.slot(a) = Some(Value { value: cx - start.0, span });
+            *offsets.slot(b) = Some(Value { value: cy - start.1, span });
+        }
         offsets.slot(a).get_or_insert(Value { value: 0.0, span });
         offsets.slot(b).get_or_insert(Value { value: 0.0, span });
         Ok(offsets)
     }
 
+    /// How far LinuxCNC lets an arc's end be off its circle: 0.002 in (or
+    /// 0.02 mm) times the square root of 2 in the program's unit, or 0.1% of
+    /// the radius up to a hundred times that, whichever is larger.
+    fn linuxcnc_arc_tolerance(&self, radius: f64) -> f64 {
+        let program = self.probe.borrow().program_units;
+        let least = match program {
+            Units::Inch => 0.002,
+            Units::Mm => 0.02,
+        } * std::f64::consts::SQRT_2
+            * program.factor_to(self.units);
+        (0.001 * radius).clamp(least, 100.0 * least)
+    }
+
     /// Rewrites a move in place. `Ok(false)`: it only set the feed, drop it.
     fn motion(&mut self, motion: &mut Motion, span: Span) -> Result<bool, Diagnostic> {
         let mode = motion.mode.expect("pass 00 gives every move its mode");
-        if let Some(f) = motion.feed {
+        let given_feed = motion.feed.take();
+        if let Some(f) = given_feed {
             self.feed = Some(f.value);
         }
         if !motion.moves() {
             return Ok(false);
         }
-        if mode != MotionMode::Rapid && self.feed.is_none() {
-            let diagnostic = Diagnostic::error(span, format!("{} move before any feed rate (F)", mode.code()))
-                .with_help(format!("give the feed on this move or before it, e.g. {} ... F10", mode.code()));
-            return Err(diagnostic);
-        }
+        let feed = match mode {
+            MotionMode::Rapid => None,
+            _ => Some(self.feed_rate(mode, given_feed, span)?),
+        };
         let mut end = self.position;
         for (axis, end) in end.iter_mut().enumerate() {
             if let Some(v) = motion.target.slot(axis) {
@@ -146,31 +220,178 @@ impl Absolute {
                 motion.target.slot(axis).get_or_insert(Value { value: end[axis], span });
             }
         }
-        motion.feed = None;
-        if mode != MotionMode::Rapid && self.feed != self.feed_written {
-            self.feed_written = self.feed;
-            motion.feed = self.feed.map(|value| Value { value, span });
+        if let Some(feed) = feed {
+            let feed = match feed {
+                Feed::PerMinute(feed) => feed,
+                Feed::InverseTime(f) => f * self.move_length(motion, end),
+            };
+            if Some(feed) != self.feed_written {
+                self.feed_written = Some(feed);
+                motion.feed = Some(Value { value: feed, span });
+            }
         }
         self.position = end;
+        self.splines.series = None;
         Ok(true)
     }
+
+    /// The feed of a feed move, in units per minute or (G93) as the inverse
+    /// of its time in minutes, which needs the move's length.
+    fn feed_rate(&mut self, mode: MotionMode, given: Option<Value>, span: Span) -> Result<Feed, Diagnostic> {
+        let code = mode.code();
+        match self.feed_mode {
+            FeedMode::InverseTime => {
+                let f = given.ok_or_else(|| {
+                    Diagnostic::error(span, format!("{code} in inverse time (G93) needs its own F"))
+                        .with_help("in G93 every feed move says how fast it runs: F is one over its time in minutes")
+                })?;
+                Ok(Feed::InverseTime(f.value))
+            }
+            FeedMode::PerRevolution => {
+                let feed = self.feed.ok_or_else(|| no_feed(code, span))?;
+                match self.speed.filter(|s| *s > 0.0) {
+                    Some(speed) => Ok(Feed::PerMinute(feed * speed)),
+                    None => Err(Diagnostic::error(
+                        span,
+                        format!("{code} in feed per revolution (G95) with no spindle speed"),
+                    )
+                    .with_help("give the speed with S before the move, e.g. M03 S1000")),
+                }
+            }
+            FeedMode::PerMinute => match (self.feed, self.default_feed) {
+                (Some(feed), _) => Ok(Feed::PerMinute(feed)),
+                (None, Some(default)) if self.dialect == Dialect::Lenient => {
+                    if !std::mem::replace(&mut self.warned_default_feed, true) {
+                        let (u, d) = (self.units.abbreviation(), self.units.decimals());
+                        let message = format!("{code} move before any feed rate (F): it runs at [machine] default_feed, {default:.d$} {u}/min");
+                        let help = "give the feed in the program, e.g. F300, to say what it should be";
+                        self.warnings.push(Diagnostic::warning(span, message).with_help(help));
+                    }
+                    Ok(Feed::PerMinute(default))
+                }
+                (None, _) => Err(no_feed(code, span)),
+            },
+        }
+    }
+
+    /// How far a move to `end` goes: along its arc (and helix) for an arc.
+    fn move_length(&self, motion: &Motion, end: [f64; 3]) -> f64 {
+        let start = self.position;
+        if !motion.mode.is_some_and(MotionMode::is_arc) {
+            return (0..3).map(|axis| (end[axis] - start[axis]).powi(2)).sum::<f64>().sqrt();
+        }
+        let (a, b, normal) = self.plane.axes();
+        let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
+        let centre = (start[a] + offset(a), start[b] + offset(b));
+        let ccw = motion.mode == Some(MotionMode::ArcCcw);
+        let (_, sweep) = arc_sweep((start[a], start[b]), (end[a], end[b]), centre, ccw);
+        let radius = offset(a).hypot(offset(b));
+        (radius * sweep).hypot(end[normal] - start[normal])
+    }
+
+    /// A, B and C words: dropped while the axis stays where the first put it.
+    fn rotary(&mut self, words: &[Option<Value>; 3]) -> Result<(), Diagnostic> {
+        for (axis, word) in words.iter().enumerate() {
+            let Some(word) = word else { continue };
+            let letter = ["A", "B", "C"][axis];
+            let at = self.rotary[axis];
+            let to = match (self.distance, at) {
+                (Distance::Incremental, _) => at.unwrap_or(0.0) + word.value,
+                (Distance::Absolute, _) => word.value,
+            };
+            match at {
+                Some(at) if at != to => {
+                    let message = format!("the {letter} axis would turn from {at} to {to}: ger's machines have 3 axes");
+                    return Err(Diagnostic::error(word.span, message)
+                        .with_help("this program is for a machine with a rotary axis"));
+                }
+                None if self.distance == Distance::Incremental && to != 0.0 => {
+                    let message = format!("the {letter} axis would turn by {to}: ger's machines have 3 axes");
+                    return Err(Diagnostic::error(word.span, message)
+                        .with_help("this program is for a machine with a rotary axis"));
+                }
+                _ => self.rotary[axis] = Some(to),
+            }
+            if !std::mem::replace(&mut self.warned_rotary, true) {
+                let message = format!("{letter}{} is dropped: a 3-axis machine has no rotary axis", word.value);
+                let help = "the program is read while its A, B and C stay where they are; a word that would turn one is an error";
+                self.warnings.push(Diagnostic::warning(word.span, message).with_help(help));
+            }
+        }
+        Ok(())
+    }
+}
+
+enum Feed {
+    PerMinute(f64),
+    InverseTime(f64),
+}
+
+fn no_feed(code: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(span, format!("{code} move before any feed rate (F)"))
+        .with_help(format!("give the feed on this move or before it, e.g. {code} ... F10"))
+}
+
+/// The point nearest `centre` on the perpendicular bisector of `start` and `end`.
+fn nearest_equidistant(start: (f64, f64), end: (f64, f64), centre: (f64, f64)) -> (f64, f64) {
+    let mid = ((start.0 + end.0) / 2.0, (start.1 + end.1) / 2.0);
+    let (dx, dy) = (end.0 - start.0, end.1 - start.1);
+    let chord2 = dx * dx + dy * dy;
+    if chord2 == 0.0 {
+        return centre;
+    }
+    // Remove the part of (centre - mid) that runs along the chord.
+    let along = ((centre.0 - mid.0) * dx + (centre.1 - mid.1) * dy) / chord2;
+    (centre.0 - along * dx, centre.1 - along * dy)
 }
 
 impl Pass for Absolute {
     fn statement(&mut self, statement: Statement, out: &mut Out) {
+        self.close_nurbs_before(&statement, out);
+        let origin = statement.origin.clone();
         self.rewrite(statement, out);
+        for warning in self.warnings.drain(..) {
+            out.report(warning.with_origin(origin.clone()));
+        }
+        self.update_probe();
+    }
+
+    fn resume(&mut self, out: &mut Out) -> bool {
+        let more = self.next_hole(out);
+        if more {
+            self.update_probe();
+        }
+        more
+    }
+
+    fn finish(&mut self, out: &mut Out) {
+        self.unfinished_nurbs(out);
+    }
+}
+
+impl Absolute {
+    fn update_probe(&self) {
         let mut probe = self.probe.borrow_mut();
         probe.position = self.position;
         probe.distance = self.distance;
         probe.plane = self.plane;
         probe.feed = self.feed;
     }
-}
 
-impl Absolute {
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
         if let Kind::Cycle(cycle) = &statement.kind {
-            if let Err(diagnostic) = self.cycle(cycle, &statement, out) {
+            if let Err(diagnostic) = self.cycle(cycle, &statement) {
+                out.error(&statement, diagnostic);
+            }
+            return;
+        }
+        let drawn = match &statement.kind {
+            Kind::Spline(spline) => Some(self.spline(spline, &statement, out)),
+            Kind::NurbsEnd => Some(self.nurbs_end(&statement, out)),
+            _ => None,
+        };
+        if let Some(result) = drawn {
+            if let Err(diagnostic) = result {
                 out.error(&statement, diagnostic);
             }
             return;
@@ -187,12 +408,51 @@ impl Absolute {
                 Ok(false) => return,
                 Err(diagnostic) => return out.error(&statement, diagnostic),
             },
-            Kind::ToolLength { z, h, .. } => {
+            Kind::ToolLength { positive, h } => {
                 *h = h.or(Some(self.probe.borrow().tool));
-                if let Some(z) = z {
-                    *z = self.absolute(2, *z);
-                    self.position[2] = z.value;
+                self.tool_length = Some(*positive);
+            }
+            Kind::ToolLengthCancel => self.tool_length = None,
+            Kind::ToolLengthRegister(h) => {
+                let h = *h;
+                let positive = match (self.tool_length, h) {
+                    (Some(positive), _) => positive,
+                    (None, 0) => return,
+                    (None, h) => {
+                        let message =
+                            format!("H{h} with no G43 in force: it is written as G43 H{h}, as Fadal applies it");
+                        let help = "write G43 with it: a Fanuc would ignore this H";
+                        self.warnings.push(Diagnostic::warning(statement.span, message).with_help(help));
+                        true
+                    }
+                };
+                return self.rewrite(statement.with_kind(Kind::ToolLength { positive, h: Some(h) }), out);
+            }
+            Kind::FeedMode(mode) => {
+                // Leaving inverse time, LinuxCNC asks for a new F: the last one was a time.
+                if std::mem::replace(&mut self.feed_mode, *mode) == FeedMode::InverseTime
+                    && *mode != FeedMode::InverseTime
+                {
+                    self.feed = None;
                 }
+                return;
+            }
+            Kind::ArcCentres(distance) => {
+                self.absolute_centres = *distance == Distance::Absolute;
+                return;
+            }
+            Kind::SetReference(reference) => {
+                match reference {
+                    Reference::Home => self.home = self.position,
+                    Reference::Second => self.second_reference = self.position,
+                }
+                return;
+            }
+            Kind::Rotary(words) => {
+                if let Err(diagnostic) = self.rotary(words) {
+                    out.error(&statement, diagnostic);
+                }
+                return;
             }
             Kind::Machine { code, s, t } => {
                 // A speed or tool given alone before (lenient dialect) is used here.
@@ -273,6 +533,7 @@ impl Absolute {
             motion.feed = self.feed.map(|value| Value { value, span: statement.span });
         }
         self.position = target;
+        self.splines.series = None;
         out.push(statement.with_kind(Kind::Motion(Box::new(motion))));
     }
 
@@ -287,7 +548,7 @@ impl Absolute {
         }
         self.rapid_to(through, statement, out);
         let point = match reference {
-            Reference::Home => [0.0; 3],
+            Reference::Home => self.home,
             Reference::Second => self.second_reference,
         };
         let mut target = through;

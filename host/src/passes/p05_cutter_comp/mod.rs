@@ -31,7 +31,7 @@ use std::sync::Arc;
 use super::{Out, Pass};
 use crate::config::Config;
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::statement::{Axes, Kind, Machine, Motion, MotionMode, Plane, Side, Statement, Value};
+use crate::statement::{Axes, Dialect, Kind, Machine, Motion, MotionMode, Plane, Side, Statement, Value};
 use geometry::{Corner, Point, Segment};
 
 /// How many statements may wait behind a held move for the next move in the
@@ -106,6 +106,8 @@ pub struct CutterComp {
     feed_carried: Option<Value>,
     /// The output's resolution: gaps and moves below it are not written.
     resolution: f64,
+    /// How the first move after G41/G42 enters: the manual's way, or LinuxCNC's.
+    dialect: Dialect,
 }
 
 impl CutterComp {
@@ -120,6 +122,7 @@ impl CutterComp {
             last_code: None,
             feed_carried: None,
             resolution: 10f64.powi(-(config.units.decimals() as i32)),
+            dialect: config.dialect.name,
         }
     }
 
@@ -204,6 +207,10 @@ impl CutterComp {
                 format!("cannot turn cutter radius compensation on ({code}) when it is already on"),
                 "cancel it with G40 first, then turn it on again (to change side or tool)",
             );
+        }
+        // D0 is "no tool" (LinuxCNC): a radius of zero, so the path is cut as written.
+        if d == Some(0) {
+            return;
         }
         let entry = d.unwrap_or(self.tool);
         let Some(radius) = self.radius(entry) else {
@@ -359,6 +366,31 @@ impl CutterComp {
                     self.state = State::Entering { comp, at };
                     return;
                 };
+                // LinuxCNC (and Fanuc's start-up) cut a straight first move
+                // from where the tool is to its offset path's end (or where
+                // that path meets the next move's): the lenient dialect does
+                // too. The manual steps out first.
+                // A first arc runs from where the tool is to its offset's
+                // end about a centre moved along the end's radius, so that
+                // both ends are on it (LinuxCNC's arc entry).
+                if self.dialect == Dialect::Lenient {
+                    let entry = match path {
+                        Segment::Line { start, .. } => Some((start, offset)),
+                        Segment::Arc { start, centre, ccw, .. } => {
+                            let end = offset.end();
+                            let along = (end - centre).unit();
+                            let chord = end - start;
+                            let shift = ((end - centre).dot(end - centre) - (start - centre).dot(start - centre))
+                                / (2.0 * along.dot(chord));
+                            shift.is_finite().then(|| (start, Segment::arc(start, end, centre + along * shift, ccw)))
+                        }
+                    };
+                    if let Some((start, entry)) = entry {
+                        let held = Box::new(hold(statement, step, entry, start));
+                        self.state = State::On { comp, held };
+                        return;
+                    }
+                }
                 // The step out runs at the first move's speed: a rapid, or
                 // a feed move taking the feed the first move brings.
                 let (step_mode, step_feed) = match step.mode {
@@ -534,12 +566,6 @@ impl Pass for CutterComp {
                 let step = self.advance(motion);
                 self.motion(statement, step, out);
             }
-            Kind::ToolLength { z, .. } => {
-                if let Some(z) = z {
-                    self.position[2] = z.value;
-                }
-                self.pass(statement, out);
-            }
             Kind::Machine { code: Machine::ToolChange, t, .. } => {
                 // The radius in use stays until G40, as in LinuxCNC; a new
                 // G41/G42 takes the new tool's.
@@ -705,6 +731,8 @@ mod tests {
             "2:1: error: cannot turn cutter radius compensation on (G42) when it is already on"
         );
         assert_eq!(comp("G41 D3")[0], "1:1: error: tool table entry 3 (D3) does not exist");
+        // D0 is no tool, as in LinuxCNC: the path is cut as written.
+        assert_eq!(comp("G41 D0\nG01 X1 F1\nY1\nG40\nM30"), ["G01 X1.0000 F1.0000", "G01 Y1.0000", "M30"]);
         assert_eq!(
             comp("M06 T4\nG41"),
             ["M06 T4", "2:1: error: the loaded tool, T4, is not in the tool table: its radius is unknown"]

@@ -1,4 +1,10 @@
-//! Plane geometry shared by the passes: polar moves and arc centres.
+//! Plane geometry shared by the passes and the simulation: polar moves, arc
+//! centres and sweeps here; curves given by control points (`spline`) and
+//! their approximation by arcs and lines (`fit`) in their own modules.
+//! Nothing here knows statements.
+
+pub mod fit;
+pub mod spline;
 
 /// The in-plane step of a polar move: `radius` along `angle` degrees,
 /// counter-clockwise from the plane's first axis.
@@ -44,6 +50,24 @@ pub fn centre_from_radius(
     Ok((mid.0 + side * height * nx, mid.1 + side * height * ny))
 }
 
+/// Where an arc about `centre` starts (radians from the plane's first axis)
+/// and how far it turns (positive counter-clockwise) to reach `end`. Start
+/// and end at the same point make a full circle.
+pub fn arc_sweep(start: (f64, f64), end: (f64, f64), centre: (f64, f64), ccw: bool) -> (f64, f64) {
+    use std::f64::consts::TAU;
+    let radius = (start.0 - centre.0).hypot(start.1 - centre.1);
+    let from = (start.1 - centre.1).atan2(start.0 - centre.0);
+    let to = (end.1 - centre.1).atan2(end.0 - centre.0);
+    let closed = (start.0 - end.0).hypot(start.1 - end.1) <= 1e-9 * radius.max(1.0);
+    let sweep = match (closed, ccw) {
+        (true, true) => TAU,
+        (true, false) => -TAU,
+        (false, true) => (to - from).rem_euclid(TAU),
+        (false, false) => -(from - to).rem_euclid(TAU),
+    };
+    (from, sweep)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,6 +97,17 @@ mod tests {
         assert!(close(ccw_long, (1.0, 1.0)));
         let cw_long = centre_from_radius((1.0, 0.0), (0.0, 1.0), -1.0, false, 1e-4).unwrap();
         assert!(close(cw_long, (0.0, 0.0)));
+    }
+
+    #[test]
+    fn arcs_sweep_the_way_they_turn() {
+        use std::f64::consts::{FRAC_PI_2, PI, TAU};
+        // From (1,0) to (0,1) about the origin: a quarter counter-clockwise, three quarters clockwise.
+        let (from, sweep) = arc_sweep((1.0, 0.0), (0.0, 1.0), (0.0, 0.0), true);
+        assert!(from.abs() < 1e-12 && (sweep - FRAC_PI_2).abs() < 1e-12);
+        assert!((arc_sweep((1.0, 0.0), (0.0, 1.0), (0.0, 0.0), false).1 + 3.0 * FRAC_PI_2).abs() < 1e-12);
+        assert!((arc_sweep((1.0, 0.0), (-1.0, 0.0), (0.0, 0.0), true).1 - PI).abs() < 1e-12);
+        assert_eq!(arc_sweep((1.0, 0.0), (1.0, 0.0), (0.0, 0.0), false).1, -TAU);
     }
 
     #[test]

@@ -6,11 +6,15 @@
 //! fails: a bad statement becomes a diagnostic and is dropped, and parsing
 //! goes on with the next one.
 
+mod block;
+
+use std::collections::HashSet;
+
 use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
-    Axes, Cycle, CycleCode, Dialect, Distance, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference, Retract,
-    Side, Statement, Units, Value, WizardArg,
+    Axes, Cycle, CycleCode, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference,
+    Retract, Side, Spline, SplineCode, Statement, Units, Value, WizardArg, MAX_NURBS_ORDER,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
@@ -49,8 +53,30 @@ pub struct Parser<L> {
     pending_g53: Option<Span>,
     /// The lenient dialect's statements of the block being read.
     block: Vec<Group>,
+    /// What the lenient dialect does with M codes it does not know.
+    codes: CodeLists,
+    /// The unknown M codes already warned about, so each is said once.
+    warned: HashSet<u32>,
     out: std::collections::VecDeque<Event>,
     done: bool,
+}
+
+/// `[dialect] pass_through` and `ignore` in ger.toml: M codes (numbers
+/// times ten, as the parser numbers codes) the lenient dialect passes to the
+/// output without a warning, or drops.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CodeLists {
+    pub pass_through: Vec<u32>,
+    pub ignore: Vec<u32>,
+}
+
+impl CodeLists {
+    /// Reads a code as written in ger.toml (`"M62"`, `"m100"`); `None` if it
+    /// is not an M code.
+    pub fn code(text: &str) -> Option<u32> {
+        let number = text.strip_prefix(['M', 'm'])?;
+        number.parse::<f64>().ok().filter(|_| !number.starts_with(['+', '-'])).and_then(code_number)
+    }
 }
 
 /// Parses the GER manual's dialect.
@@ -59,7 +85,25 @@ pub fn parse<L: Iterator<Item = Lexed>>(tokens: L) -> Parser<L> {
 }
 
 pub fn parse_in<L: Iterator<Item = Lexed>>(tokens: L, dialect: Dialect) -> Parser<L> {
-    Parser { tokens, dialect, group: None, pending_g53: None, block: Vec::new(), out: Default::default(), done: false }
+    Parser {
+        tokens,
+        dialect,
+        group: None,
+        pending_g53: None,
+        block: Vec::new(),
+        codes: CodeLists::default(),
+        warned: HashSet::new(),
+        out: Default::default(),
+        done: false,
+    }
+}
+
+impl<L> Parser<L> {
+    /// What to do with M codes the lenient dialect does not know.
+    pub fn with_code_lists(mut self, codes: CodeLists) -> Parser<L> {
+        self.codes = codes;
+        self
+    }
 }
 
 impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
@@ -136,64 +180,53 @@ impl<L> Parser<L> {
         }
     }
 
-    /// The lenient dialect reads a block (a line, or up to `;`) as LinuxCNC
-    /// does: words belong to the block's motion or cycle code whatever their
-    /// order (`G81 G99 Z-1 R1`), and the block's other G codes act before it.
+    /// The lenient dialect reads a whole block before making its statements:
+    /// see [`block`].
     fn close_block(&mut self) {
-        let mut block = std::mem::take(&mut self.block);
-        let dialect = self.dialect;
-        let is_motion = |group: &Group| {
-            matches!(&group.head, Head::Code { letter: 'G', value }
-                if [0.0, 1.0, 2.0, 3.0, 73.0, 81.0, 82.0, 83.0, 85.0, 86.0, 89.0].contains(&value.value))
-        };
-        if let Some(m) = block.iter().position(is_motion) {
-            // A word its own code cannot take goes to the motion code if it
-            // can take it, else to the first G code of the block that can.
-            let heads: Vec<Option<f64>> = block
-                .iter()
-                .map(|g| match &g.head {
-                    Head::Code { letter: 'G', value } => Some(value.value),
-                    _ => None,
-                })
-                .collect();
-            let count = block.len();
-            let owner = |word: char| {
-                std::iter::once(m)
-                    .chain(0..count)
-                    .find(|&i| heads[i].is_some_and(|code| takes_word('G', code, word, dialect)))
-            };
-            let mut moved: Vec<(usize, (char, Value))> = Vec::new();
-            for (i, group) in block.iter_mut().enumerate() {
-                let Some(code) = heads[i] else { continue };
-                let (keep, give): (Vec<_>, Vec<_>) = std::mem::take(&mut group.words)
-                    .into_iter()
-                    .partition(|(w, _)| takes_word('G', code, *w, dialect) || owner(*w).is_none());
-                group.words = keep;
-                moved.extend(give.into_iter().map(|word| (owner(word.0).expect("kept otherwise"), word)));
-            }
-            for (to, word) in moved {
-                block[to].words.push(word);
-            }
-            // Modal G codes written after the motion code still act before it.
-            let motion = block.remove(m);
-            let last_g =
-                block.iter().rposition(|g| matches!(g.head, Head::Code { letter: 'G', .. })).map_or(0, |i| i + 1);
-            block.insert(last_g.max(m), motion);
+        let block = std::mem::take(&mut self.block);
+        if block.is_empty() {
+            return;
         }
-        for group in block {
-            self.emit(group);
+        let mut warnings = Vec::new();
+        match block::arrange(block, &mut warnings) {
+            Ok(groups) => groups.into_iter().for_each(|group| self.emit(group)),
+            Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
         }
+        self.out.extend(warnings.into_iter().map(Event::Diagnostic));
     }
 
     fn emit(&mut self, group: Group) {
         for group in self.split(group) {
             let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
             match result {
-                Ok(Some(statement)) => self.out.push_back(Event::Statement(statement)),
+                Ok(Some(statement)) => {
+                    if let Some(statement) = self.unknown_m_code(statement) {
+                        self.out.push_back(Event::Statement(statement));
+                    }
+                }
                 Ok(None) => {}
                 Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
             }
         }
+    }
+
+    /// An M code ger does not know goes to the output with a warning the
+    /// first time, unless ger.toml lists it to pass silently or to drop.
+    fn unknown_m_code(&mut self, statement: Statement) -> Option<Statement> {
+        let Kind::PassThrough { code, .. } = statement.kind else { return Some(statement) };
+        if self.codes.ignore.contains(&code) {
+            return None;
+        }
+        if !self.codes.pass_through.contains(&code) && self.warned.insert(code) {
+            let name = code_name('M', f64::from(code) / 10.0);
+            let message = format!("{name} is not a code ger knows: it goes to the output as it is");
+            let help = format!(
+                "ger does not simulate or check what {name} does; list it in ger.toml's [dialect] pass_through to \
+                 silence this, or in ignore to drop it"
+            );
+            self.out.push_back(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
+        }
+        Some(statement)
     }
 
     /// At the end of a line (or `;`), a G53 still waiting for its move has none.
@@ -278,7 +311,7 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 0 | 10) => Some("XYZF"),
         ('G', 20 | 30) => Some(ARC_WORDS),
         ('G', 410 | 420) => Some("D"),
-        ('G', 430 | 440) => Some("ZH"),
+        ('G', 430 | 440) => Some("H"),
         ('G', 520 | 920) => Some("XYZ"),
         ('G', 150 | 160 | 170 | 180 | 190 | 200 | 210 | 400 | 490 | 540 | 550 | 560 | 570 | 580 | 590 | 900 | 910) => {
             Some("")
@@ -296,15 +329,37 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         return strict;
     }
     match (letter, number) {
-        ('G', 40) => Some("P"),
-        ('G', 100) => Some("LPXYZ"),
+        // P in seconds (LinuxCNC), or X in seconds (Fanuc, Haas).
+        ('G', 40) => Some("PX"),
+        ('G', 100) => Some("LPXYZR"),
         ('G', 280 | 300) => Some("XYZ"),
         ('G', 530) => Some("XYZF"),
         ('G', 640) => Some("PQ"),
-        ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Some("XYZRQPLKF"),
+        ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => Some("XYZRQPLKF"),
+        // The splines take every word a move might, so that a wrong one is
+        // refused by name rather than made a move of its own.
+        ('G', 50) => Some("XYZIJKRPQF"),
+        ('G', 51) => Some(ARC_WORDS),
+        ('G', 52) => Some("XYZIJKRPQLF"),
+        ('G', 53) => Some(""),
         // M19's angle, timeout and direction go with it when it is dropped.
         ('M', 190) => Some("RQP"),
-        ('G', 610 | 611 | 800 | 911 | 940 | 980 | 990) | ('M', 20 | 310 | 330 | 470) => Some(""),
+        // G54.1 Pn (Fanuc) and G154 Pn (Haas): the extended work offsets.
+        ('G', 541 | 1540) => Some("P"),
+        // Modes ger has no use for, and the cancels of modes it refuses.
+        ('G', 80 | 1030) => Some("P"),
+        ('G', 1870) => Some("PE"),
+        ('G', 501) => Some("XYZ"),
+        ('G', 90 | 131 | 500 | 670 | 690 | 970) => Some(""),
+        ('G', 281 | 301 | 591 | 592 | 593 | 610 | 611 | 800 | 901 | 911 | 921 | 922 | 923 | 930 | 940 | 950) => {
+            Some("")
+        }
+        ('G', 980 | 990) | ('M', 20 | 310 | 330 | 470) => Some(""),
+        // Calls of program parts ger cannot read: refused, with why.
+        ('M', 970 | 1980) => None,
+        // An M code ger does not know passes through with the words I/O and
+        // user codes take (M62 P1, M66 P0 L3 Q5, M68 E0 Q50, M100 P1 Q2).
+        ('M', n) if n.is_multiple_of(10) => Some("PQEL"),
         _ => None,
     }
 }
@@ -320,24 +375,46 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
     let words = Words::new(group.words)?;
     let kind = match group.head {
         Head::Wizard { name, args } => Kind::Wizard { name, args },
+        Head::Bare if dialect == Dialect::Lenient && words.list.iter().all(|(l, _)| block::ROTARY.contains(*l)) => {
+            Kind::Rotary([words.get('A'), words.get('B'), words.get('C')])
+        }
         Head::Bare => {
             if let Some((letter, value)) = words.list.iter().find(|(l, _)| !KNOWN_LETTERS.contains(*l)) {
                 return Err(unknown_letter(*letter, value.span));
             }
             match words.list[0] {
+                // A line of X Y P (or L) continues a NURBS (G5.2), if one is in force.
+                _ if dialect == Dialect::Lenient && words.has_any("PL") && words.has_any("XYZ") => {
+                    Kind::Spline(Box::new(spline(None, span, &words)?))
+                }
                 _ if words.has_any(ARC_WORDS) => {
                     words.only(ARC_WORDS, "a move")?;
                     Kind::Motion(Box::new(motion(None, &words, dialect)?))
                 }
-                // The lenient split leaves S and T alone in their statements.
+                // The lenient block reading leaves S, T, E and H alone in their statements.
                 ('S', s) if dialect == Dialect::Lenient => Kind::SpindleSpeed(speed(s)?),
                 ('T', _) if dialect == Dialect::Lenient => Kind::ToolSelect(words.whole('T')?.unwrap_or(0)),
+                ('E', e) if dialect == Dialect::Lenient => fadal_fixture(e)?,
+                ('H', _) if dialect == Dialect::Lenient => Kind::ToolLengthRegister(words.whole('H')?.unwrap_or(0)),
                 _ => return Err(stray_word(&words)),
             }
         }
         Head::Code { letter, value } => code(letter, value, &words, dialect)?,
     };
     Ok(Statement::new(kind, span))
+}
+
+/// Fadal's E word: E1..E6 are the fixture offsets G54..G59, E0 machine zero.
+fn fadal_fixture(e: Value) -> Result<Kind, Diagnostic> {
+    let entry = match e.value {
+        v if v.fract() == 0.0 && (1.0..=6.0).contains(&v) => v as u8,
+        0.0 => return Ok(Kind::Offset { code: Offset::G52, axes: Axes::default() }),
+        _ => {
+            return Err(Diagnostic::error(e.span, format!("E{} is not a fixture offset ger has", e.value))
+                .with_help("Fadal's E1 to E6 are G54 to G59, and E0 is machine zero"))
+        }
+    };
+    Ok(Kind::Offset { code: Offset::WorkOffset(entry), axes: Axes::default() })
 }
 
 fn speed(s: Value) -> Result<f64, Diagnostic> {
@@ -383,7 +460,7 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
             Kind::CutterComp { side, d: words.whole('D')? }
         }
         ('G', 430) | ('G', 440) => {
-            words.only("ZH", &name)?;
+            words.only("H", &name)?;
             // Without H, LinuxCNC uses the loaded tool's offset; so does the lenient dialect (pass 04).
             let h = words.whole('H')?;
             if h.is_none() && dialect == Dialect::Strict {
@@ -393,7 +470,7 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
                 )
                 .with_help(format!("write e.g. {name} H1, or {name} Z1.0 H1 to move to Z1.0 with the offset")));
             }
-            Kind::ToolLength { positive: number == 430, z: words.get('Z'), h }
+            Kind::ToolLength { positive: number == 430, h }
         }
         ('G', 490) => no_words(Kind::ToolLengthCancel)?,
         ('G', 520) | ('G', 920) => {
@@ -459,19 +536,62 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('M', 20) => Kind::End,
         ('M', 470) => Kind::Repeat,
         ('G', 40) => {
-            let p = words.get('P').ok_or_else(|| {
-                Diagnostic::error(span, "G04 needs a P word: the dwell in seconds").with_help("write e.g. G04 P0.5")
-            })?;
-            if p.value < 0.0 {
-                return Err(Diagnostic::error(p.span, "a dwell cannot be negative"));
+            let seconds = match (words.get('P'), words.get('X')) {
+                (Some(p), None) | (None, Some(p)) => p,
+                (Some(_), Some(x)) => {
+                    return Err(Diagnostic::error(x.span, "G04 takes P or X (the dwell in seconds), not both"))
+                }
+                (None, None) => {
+                    return Err(Diagnostic::error(span, "G04 needs a P word: the dwell in seconds")
+                        .with_help("write e.g. G04 P0.5"))
+                }
+            };
+            if seconds.value < 0.0 {
+                return Err(Diagnostic::error(seconds.span, "a dwell cannot be negative"));
             }
-            Kind::Dwell(p.value)
+            Kind::Dwell(seconds.value)
         }
         ('G', 610) => Kind::NoEffect("G61"),
         ('G', 611) => Kind::NoEffect("G61.1"),
         ('G', 640) => Kind::NoEffect("G64"),
-        ('G', 911) => Kind::NoEffect("G91.1"),
-        ('G', 940) => Kind::NoEffect("G94"),
+        // Exact stop for one block; spindle speed in rpm (what S always is here).
+        ('G', 90) => Kind::NoEffect("G09"),
+        ('G', 970) => Kind::NoEffect("G97"),
+        // Fanuc's and Haas's look-ahead and smoothing settings.
+        ('G', 80) => Kind::NoEffect("G08"),
+        ('G', 1030) => Kind::NoEffect("G103"),
+        ('G', 1870) => Kind::NoEffect("G187"),
+        // The cancels of modes ger refuses to turn on: polar interpolation,
+        // scaling, mirroring, modal macros, rotation.
+        ('G', 131) => Kind::NoEffect("G13.1"),
+        ('G', 500) => Kind::NoEffect("G50"),
+        ('G', 501) => Kind::NoEffect("G50.1"),
+        ('G', 670) => Kind::NoEffect("G67"),
+        ('G', 690) => Kind::NoEffect("G69"),
+        ('G', 901) => Kind::ArcCentres(Distance::Absolute),
+        ('G', 911) => Kind::ArcCentres(Distance::Incremental),
+        ('G', 930) => Kind::FeedMode(FeedMode::InverseTime),
+        ('G', 940) => Kind::FeedMode(FeedMode::PerMinute),
+        ('G', 950) => Kind::FeedMode(FeedMode::PerRevolution),
+        ('G', 281) => Kind::SetReference(Reference::Home),
+        ('G', 301) => Kind::SetReference(Reference::Second),
+        ('G', 921) => Kind::Offset { code: Offset::G92Cancel { keep: false }, axes: Axes::default() },
+        ('G', 922) => Kind::Offset { code: Offset::G92Cancel { keep: true }, axes: Axes::default() },
+        ('G', 923) => Kind::Offset { code: Offset::G92Restore, axes: Axes::default() },
+        ('G', 591..=593) => Kind::Offset { code: Offset::WorkOffset((number - 591 + 7) as u8), axes: Axes::default() },
+        ('G', 541 | 1540) => {
+            let entry = match words.whole('P')? {
+                Some(p @ 1..=EXTENDED_OFFSETS) => p,
+                _ => {
+                    return Err(Diagnostic::error(
+                        span,
+                        format!("{name} needs P1 to P{EXTENDED_OFFSETS}: which extended work offset"),
+                    )
+                    .with_help(format!("write e.g. {name} P1")))
+                }
+            };
+            Kind::Offset { code: Offset::WorkOffset(9 + entry as u8), axes: Axes::default() }
+        }
         ('M', 190) => Kind::NoEffect("M19"),
         ('M', 310) => Kind::NoEffect("M31"),
         ('M', 330) => Kind::NoEffect("M33"),
@@ -491,15 +611,30 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                     )),
                 };
             let entry = match words.whole('P')? {
-                Some(p) if p <= 6 => p as u8,
+                Some(p) if p <= 9 => p as u8,
                 _ => {
-                    return Err(Diagnostic::error(span, "G10 needs P0 (the offset in force) to P6 (G59)")
-                        .with_help("P1 is G54, P2 G55, ... P6 G59"))
+                    return Err(Diagnostic::error(span, "G10 needs P0 (the offset in force) to P9 (G59.3)")
+                        .with_help("P1 is G54, P2 G55, ... P6 G59, P7 to P9 G59.1 to G59.3"))
                 }
             };
+            // LinuxCNC's R turns the coordinate system about Z, which ger does not model.
+            if let Some(r) = words.get('R').filter(|r| r.value != 0.0) {
+                return Err(Diagnostic::error(r.span, "a rotated coordinate system (G10 R) is not supported")
+                    .with_help("rotate the program in the CAM system, or leave out R"));
+            }
             Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative }
         }
-        ('G', 730 | 810 | 820 | 830 | 850 | 860 | 890) => Kind::Cycle(Box::new(cycle(number, span, words)?)),
+        ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
+            Kind::Cycle(Box::new(cycle(number, span, words)?))
+        }
+        ('G', 50) => Kind::Spline(Box::new(spline(Some(SplineCode::Cubic), span, words)?)),
+        ('G', 51) => Kind::Spline(Box::new(spline(Some(SplineCode::Quadratic), span, words)?)),
+        ('G', 52) => Kind::Spline(Box::new(spline(Some(SplineCode::Nurbs), span, words)?)),
+        ('G', 53) => Kind::NurbsEnd,
+        ('M', 970 | 1980) => return Err(lenient_refusal(letter, number, name, span)),
+        ('M', n) if n.is_multiple_of(10) => {
+            Kind::PassThrough { code: n, words: words.list.iter().map(|(l, v)| (*l, v.value)).collect() }
+        }
         _ => return Err(lenient_refusal(letter, number, name, span)),
     };
     Ok(kind)
@@ -508,6 +643,8 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
 fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
     let code = match number {
         730 => CycleCode::ChipBreak,
+        740 => CycleCode::TapLeft,
+        840 => CycleCode::Tap,
         810 => CycleCode::Drill,
         820 => CycleCode::DrillDwell,
         830 => CycleCode::Peck,
@@ -540,15 +677,117 @@ fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
     Ok(Cycle { code, target, r: words.get('R'), q, p: words.get('P'), repeat, feed: words.get('F') })
 }
 
+/// G5, G5.1 and G5.2 with LinuxCNC's rules for their words; `None`: a line
+/// of X Y P, the next control point if a NURBS (G5.2) is in force.
+fn spline(code: Option<SplineCode>, span: Span, words: &Words) -> Result<Spline, Diagnostic> {
+    let name = code.map_or("a NURBS control point", SplineCode::code);
+    if let Some(z) = words.get('Z') {
+        return Err(Diagnostic::error(z.span, "splines may not move in Z").with_help(
+            "G05, G5.1 and G5.2 draw in the XY plane at the tool's Z: move Z with G01 before or after the curve",
+        ));
+    }
+    let allowed = match code {
+        Some(SplineCode::Cubic) => "XYIJPQF",
+        Some(SplineCode::Quadratic) => "XYIJF",
+        _ => "XYPLF",
+    };
+    // Q is a word of the lenient dialect's, not one that ger does not know.
+    if let Some(q) = words.get('Q').filter(|_| !allowed.contains('Q')) {
+        return Err(Diagnostic::error(q.span, format!("Q is not allowed with {name}"))
+            .with_help("Q goes with G05: the Y of its second control point, from the end"));
+    }
+    words.only(allowed, name)?;
+    if let Some(f) = words.get('F').filter(|f| f.value <= 0.0) {
+        return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
+    }
+    let pair = |a: char, b: char| Axes { x: words.get(a), y: words.get(b), z: None };
+    let mut spline = Spline {
+        code,
+        target: words.axes("XYZ"),
+        first: Axes::default(),
+        second: Axes::default(),
+        weight: None,
+        order: None,
+        feed: words.get('F'),
+    };
+    // Of two words that go together, the one given when the other is not.
+    let lone = |a: char, b: char| match (words.get(a), words.get(b)) {
+        (Some(v), None) | (None, Some(v)) => Some(v),
+        _ => None,
+    };
+    match code {
+        Some(SplineCode::Cubic) => {
+            if words.get('P').is_none() || words.get('Q').is_none() {
+                return Err(Diagnostic::error(
+                    span,
+                    "G05 needs both P and Q: the second control point, relative to the end",
+                )
+                .with_help("write e.g. G05 I1 J0 P-1 Q0 X2 Y1; I and J may be left out after another G05"));
+            }
+            if let Some(v) = lone('I', 'J') {
+                return Err(Diagnostic::error(v.span, "G05 takes both I and J, or neither").with_help(
+                    "I and J place the first control point from the start; without them it mirrors the G05 before",
+                ));
+            }
+            spline.first = pair('I', 'J');
+            spline.second = pair('P', 'Q');
+        }
+        Some(SplineCode::Quadratic) => {
+            if words.get('I').is_none() || words.get('J').is_none() {
+                return Err(Diagnostic::error(
+                    span,
+                    "G5.1 needs both I and J: the control point, relative to the start",
+                )
+                .with_help("write e.g. G5.1 I1 J1 X2 Y0"));
+            }
+            spline.first = pair('I', 'J');
+        }
+        _ => {
+            if let Some(v) = lone('X', 'Y') {
+                return Err(Diagnostic::error(v.span, "a NURBS control point needs both X and Y")
+                    .with_help("write e.g. X1 Y2 P1"));
+            }
+            let weight = words.get('P');
+            if let Some(p) = weight.filter(|p| p.value <= 0.0) {
+                return Err(Diagnostic::error(p.span, "a NURBS control point's weight (P) must be greater than zero"));
+            }
+            if weight.is_none() && !spline.target.is_empty() {
+                return Err(Diagnostic::error(span, "a NURBS control point needs a weight P greater than zero")
+                    .with_help("write e.g. X1 Y2 P1: P1 is a plain point, more pulls the curve towards it"));
+            }
+            if let (Some(order), Some(l)) = (words.whole('L')?, words.get('L')) {
+                if !(3..=MAX_NURBS_ORDER).contains(&order) {
+                    return Err(Diagnostic::error(
+                        l.span,
+                        format!("a NURBS's order (L) must be from 3 to {MAX_NURBS_ORDER}, not {order}"),
+                    )
+                    .with_help("L3, the default, is a quadratic curve, L4 a cubic; LinuxCNC reads an L below 3 as 3"));
+                }
+                spline.order = Some(order);
+            }
+            spline.weight = weight;
+        }
+    }
+    Ok(spline)
+}
+
 /// What the lenient dialect still refuses, with why.
 fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnostic {
     let why = match (letter, number) {
-        ('G', 740 | 840) => "tapping cycles need the spindle synchronised with the feed, which ger does not model",
         ('G', 760 | 870 | 880) => "this boring cycle differs too much between controllers",
         ('G', 930) => "inverse-time feed (G93) is not supported: feeds are per minute",
         ('G', 901) => "absolute arc centres (G90.1) are not supported: ger's I/J/K are relative to the start",
         ('G', 380..=389) | ('G', 310) => "probing needs a real machine",
-        ('G', 650 | 660 | 670) => "Fanuc macro calls are not supported",
+        ('G', 650 | 660) => "Fanuc macro calls are not supported",
+        ('G', 330 | 331) => "spindle-synchronised motion (threading, rigid tapping) needs the spindle's encoder",
+        ('G', 680) => "coordinate rotation (G68) is not supported: rotate the program in the CAM system",
+        ('G', 510) => "scaling (G51) is not supported",
+        ('G', 511) => "mirror imaging (G51.1) is not supported",
+        ('G', 960) => "constant surface speed (G96) is a lathe's mode: give the spindle speed in rpm",
+        ('G', 120 | 130) => "circular pocket cycles differ between controllers: write the moves, or use a wizard",
+        ('G', 431 | 432) => "dynamic tool length offsets are not supported: use G43 H with the tool table",
+        ('M', 970) => "M97 calls a part of this program by its N number, which ger does not read: use M98 and O",
+        ('M', 1980) => "M198 calls a program from the controller's memory card, which ger cannot read",
         _ => return omitted_or_unknown(letter, number, name, span),
     };
     Diagnostic::error(span, format!("{name} is not accepted: {why}"))
@@ -617,7 +856,8 @@ fn stray_word(words: &Words) -> Diagnostic {
         'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000, or run with --lenient"),
         'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2, or run with --lenient"),
         'P' | 'L' => ("P and L words go with M98", "write e.g. M98 P100 L2"),
-        'H' => ("an H word goes with G43 or G44", "write e.g. G43 H1"),
+        'H' => ("an H word goes with G43 or G44", "write e.g. G43 H1, or run with --lenient"),
+        'E' => ("an E word is Fadal's fixture offset", "write G54 to G59 instead, or run with --lenient"),
         'D' => ("a D word goes with G41 or G42", "write e.g. G41 D1"),
         _ => return unknown_letter(letter, value.span),
     };
@@ -649,7 +889,10 @@ fn code_number(value: f64) -> Option<u32> {
     (value >= 0.0 && (tenths - tenths.round()).abs() < 1e-6 && tenths < 1e7).then(|| tenths.round() as u32)
 }
 
-const KNOWN_LETTERS: &str = "XYZIJKRFSTPLHD";
+const KNOWN_LETTERS: &str = "XYZIJKRFSTPLHDE";
+
+/// How many extended work offsets G54.1 Pn and G154 Pn reach.
+pub const EXTENDED_OFFSETS: u32 = 99;
 
 /// The words of one statement, checked for repeats.
 struct Words {
@@ -802,10 +1045,11 @@ mod tests {
     #[test]
     fn lenient_m19_takes_its_orientation_words() {
         // LinuxCNC's M19 R<angle> Q<timeout> P<direction>: they go with M19,
-        // not to a move of their own (which came out as `G00 R90`).
+        // not to a move of their own (which came out as `G00 R90`). The
+        // block runs in LinuxCNC's order: speed, spindle, path control.
         assert_eq!(
             parsed_lenient("G64 M19 R90 Q2 P1 S0"),
-            ["1:1 NoEffect(\"G64\")", "1:5 NoEffect(\"M19\")", "1:19 SpindleSpeed(0.0)"]
+            ["1:19 SpindleSpeed(0.0)", "1:5 NoEffect(\"M19\")", "1:1 NoEffect(\"G64\")"]
         );
         // G64 takes P and Q but no R, so R on a G64 line with no M19 is a move's word.
         assert!(parsed_lenient("G64 P0.01 R1")[1].starts_with("1:11 Motion(Motion { mode: None"));
