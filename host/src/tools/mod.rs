@@ -14,7 +14,7 @@ use std::io::BufRead;
 
 use serde::Serialize;
 
-use crate::config::{Config, StockConfig, Tool};
+use crate::config::{Bounds, Config, StockConfig, Tool};
 use crate::lex::{Lexed, Lexer, Lines, TokenKind};
 use crate::statement::{Dialect, Units};
 use comments::{Block, Described, Found};
@@ -325,7 +325,7 @@ pub fn settle(
                 tip_angle: d.tip_angle,
             };
             let tool = scaled(&tool, entry.units.unwrap_or(units).factor_to(units));
-            if usable(&tool) {
+            if usable(&tool, units) {
                 table.push((tool, ToolSource::Comment { line: entry.line }));
             }
         }
@@ -345,7 +345,10 @@ fn described_stock(units: Units, project: Option<&camotics::Project>, program: &
     let box_of = |size: [f64; 3], origin: [f64; 3], factor: f64| {
         let size = size.map(|x| x * factor);
         let origin = origin.map(|x| x * factor);
-        let sane = size.iter().all(|x| *x > 0.0 && x.is_finite()) && origin.iter().all(|x| x.is_finite());
+        // What `[stock]` in ger.toml would accept.
+        let bounds = Bounds::of(units);
+        let sane = size.iter().all(|x| (bounds.smallest..=bounds.length).contains(x))
+            && origin.iter().all(|x| x.abs() <= bounds.length);
         sane.then(|| StockConfig { size: Some(size), origin: Some(origin), ..StockConfig::default() })
     };
     match project.and_then(|p| p.workpiece) {
@@ -366,11 +369,12 @@ fn scaled(tool: &Tool, factor: f64) -> Tool {
     Tool { diameter: tool.diameter * factor, flute_length: tool.flute_length.map(|l| l * factor), ..tool.clone() }
 }
 
-/// A tool the simulation can cut with: what `ger.toml` would accept.
-fn usable(tool: &Tool) -> bool {
-    tool.diameter > 0.0
-        && tool.diameter.is_finite()
-        && tool.flute_length.is_none_or(|l| l > 0.0 && l.is_finite())
+/// A tool the simulation can cut with: what `ger.toml` would accept, in `units`.
+fn usable(tool: &Tool, units: Units) -> bool {
+    let bounds = Bounds::of(units);
+    let size = bounds.smallest..=bounds.tool;
+    size.contains(&tool.diameter)
+        && tool.flute_length.is_none_or(|l| size.contains(&l))
         && tool.tip_angle.is_none_or(|a| a > 0.0 && a < 180.0)
 }
 

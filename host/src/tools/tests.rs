@@ -154,3 +154,19 @@ fn nonsense_descriptions_are_not_tools() {
     assert_eq!(config.tool_source(1), Some(&ToolSource::Default));
     assert_eq!(config.stock, StockConfig::default());
 }
+
+#[test]
+fn descriptions_past_what_ger_toml_allows_are_not_tools() {
+    // A 5 m endmill and a 200 m block: past config::Bounds (1 m tools, 100 m lengths).
+    let program = scanned("G21\n(T1 D=5000. CR=0. - ZMIN=-1. - flat end mill)\n(STOCK/BLOCK,200000,10,1,0,0,1)\n");
+    let mut config = mm_config();
+    settle(&mut config, None, None, &program);
+    assert_eq!(config.tool_source(1), Some(&ToolSource::Default));
+    assert_eq!(config.stock, StockConfig::default());
+    // The same in inches is 127 mm and 5.08 m: a face mill and a gantry's bed.
+    let program = scanned("G20\n(T1 D=5. CR=0. - ZMIN=-1. - face mill)\n(STOCK/BLOCK,200,10,1,0,0,1)\n");
+    let mut config = mm_config();
+    settle(&mut config, None, None, &program);
+    assert_eq!(config.tool_source(1), Some(&ToolSource::Comment { line: 2 }));
+    assert_eq!(config.stock.size, Some([5080.0, 254.0, 25.4]));
+}
