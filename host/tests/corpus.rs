@@ -1,7 +1,8 @@
 //! The real-world corpus (`../shared/corpus` beside the repository, described
 //! by its `INDEX.tsv`): every G-code file of a 3-axis mill is run through
 //! `ger run --lenient`, and must either translate or be refused with
-//! diagnostics, never panic and never take more than 10 s. The results, by
+//! diagnostics, never panic and never take more than 10 s of CPU time (a
+//! wall-clock limit would measure the machine's load). The results, by
 //! file and by source, are kept in `tests/corpus/RESULTS.md`; this test fails
 //! when they change (`UPDATE_EXPECT=1 cargo test --test corpus` rewrites the
 //! table, to review with `git diff`) and when fewer than 90% of the mill files
@@ -16,7 +17,9 @@ use std::time::Duration;
 
 use support::corpus::{self, Class};
 
-const TIME_LIMIT: Duration = Duration::from_secs(10);
+const CPU_LIMIT: Duration = Duration::from_secs(10);
+/// Only for a run that hangs without using the CPU.
+const WALL_LIMIT: Duration = Duration::from_secs(120);
 
 enum Verdict {
     Translated,
@@ -26,9 +29,12 @@ enum Verdict {
 
 /// Runs `ger run --lenient` on one file, in the file's own units.
 fn translate(file: &Path, units: &str, config: &Path) -> Verdict {
-    let run = corpus::translate(file, units, config, TIME_LIMIT);
+    let run = corpus::translate(file, units, config, WALL_LIMIT);
     if run.timed_out {
-        return Verdict::Broken(format!("took more than {} s", TIME_LIMIT.as_secs()));
+        return Verdict::Broken(format!("ran for more than {} s", WALL_LIMIT.as_secs()));
+    }
+    if run.cpu > CPU_LIMIT {
+        return Verdict::Broken(format!("took {:.1} s of CPU time", run.cpu.as_secs_f64()));
     }
     match run.code {
         Some(0) => Verdict::Translated,
@@ -91,7 +97,9 @@ fn the_corpus_translates_or_is_refused_cleanly() {
     let _ = writeln!(
         table,
         "**3-axis mill programs without macro programming: {mills_translated} of {mills} translate ({percent:.1}%).** \
-         The others are refused with diagnostics, or are not mill programs.\n"
+         The others are refused with diagnostics, or are not mill programs. A program that uses `#` parameters, \
+         `[ ]` expressions or O-word control flow outside its comments counts as macro programming, whatever the \
+         index says. The figure counts programs LinuxCNC refuses too: `RS274.md` says which.\n"
     );
     let _ = writeln!(table, "## By source\n\n| source | files | translated | refused |\n| --- | --- | --- | --- |");
     for (source, [files, translated, refused]) in &by_source {

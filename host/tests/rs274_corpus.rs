@@ -214,6 +214,23 @@ fn ger_moves_like_rs274_on_the_corpus() {
         total(1),
         entries.len()
     );
+    let [mills, _, mills_refused, mills_agree, mills_disagree] = by_kind[Class::Mill.label()];
+    let mills_accepted = mills_agree + mills_disagree + mills_refused;
+    let mills_translated = 100.0 * (mills_agree + mills_disagree) as f64 / mills_accepted.max(1) as f64;
+    if percent < 98.0 {
+        problems.push(format!("only {percent:.1}% of the programs both accept agree"));
+    }
+    if mills_translated < 95.0 {
+        problems.push(format!("ger translates only {mills_translated:.1}% of the mill programs rs274 accepts"));
+    }
+    let _ = writeln!(
+        table,
+        "**Of the {mills_accepted} 3-axis mill programs without macro programming that rs274 accepts, ger translates \
+         {} ({:.1}%)**; rs274 refuses {} of the {mills}.\n",
+        mills_agree + mills_disagree,
+        mills_translated,
+        mills - mills_accepted,
+    );
     let _ = writeln!(
         table,
         "## By kind\n\n| kind | programs | rs274 refuses | ger refuses | agree | disagree |\n\

@@ -28,6 +28,9 @@ pub struct Entry {
     /// `G20`, `G21` or `none`, as the index says.
     pub units: String,
     pub features: String,
+    /// The program's text, outside comments, uses `#` parameters, `[ ]`
+    /// expressions or O-word control flow, whatever the index says.
+    pub programs_parameters: bool,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -75,7 +78,9 @@ impl Entry {
         if self.source.contains("expected-error") {
             return Class::Reject;
         }
-        if has("#vars") || has("IF/GOTO/WHILE") || has("O-word-subs/control") || has("G65/G66-macro-call") {
+        let macro_feature =
+            has("#vars") || has("IF/GOTO/WHILE") || has("O-word-subs/control") || has("G65/G66-macro-call");
+        if macro_feature || self.programs_parameters {
             return Class::Macro;
         }
         Class::Mill
@@ -104,9 +109,44 @@ pub fn entries(corpus: &Path) -> Vec<Entry> {
                 source: fields[3].into(),
                 units: fields[4].into(),
                 features: fields[6].into(),
+                programs_parameters: std::fs::read(corpus.join(fields[0]))
+                    .is_ok_and(|bytes| uses_macro_programming(&String::from_utf8_lossy(&bytes))),
             })
         })
         .collect()
+}
+
+/// Whether a program uses what only a parametric interpreter runs: `#`
+/// parameters, `[ ]` expressions (`sqrt[2]`), or O-word control flow
+/// (`o100 if`, `o<name> call`), outside its comments.
+pub fn uses_macro_programming(text: &str) -> bool {
+    const CONTROL: [&str; 12] =
+        ["sub", "endsub", "call", "if", "elseif", "else", "endif", "while", "endwhile", "do", "repeat", "return"];
+    text.lines().any(|line| {
+        let code = without_comments(line).to_ascii_lowercase();
+        if code.contains('#') || code.contains('[') {
+            return true;
+        }
+        let mut words = code.split_whitespace();
+        let o_word = words.next().is_some_and(|w| w.starts_with('o') && w.len() > 1);
+        o_word && words.next().is_some_and(|w| CONTROL.contains(&w))
+    })
+}
+
+/// A line's code: what `( )` comments and a `;` comment leave.
+fn without_comments(line: &str) -> String {
+    let mut code = String::new();
+    let mut depth = 0usize;
+    for c in line.chars() {
+        match c {
+            ';' if depth == 0 => break,
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            _ if depth == 0 => code.push(c),
+            _ => {}
+        }
+    }
+    code
 }
 
 /// The tools of the machine the corpus runs on: 1 to `TOOLS`, endmills of
