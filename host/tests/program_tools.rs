@@ -240,7 +240,7 @@ fn the_corpus_tool_comments_are_read_as_written() {
             continue;
         }
         let Ok(text) = std::fs::read_to_string(corpus.join(fields[0])) else { continue };
-        let scan = ger::tools::scan(text.as_bytes(), ger::statement::Dialect::Lenient);
+        let scan = ger_core::tools::scan(text.as_bytes(), ger_core::statement::Dialect::Lenient);
         files += 1;
         // Every "(Tn D=d ..." line: tool n has diameter d, at the first line that describes n.
         let mut seen = std::collections::BTreeSet::new();
@@ -267,16 +267,16 @@ fn the_corpus_tool_comments_are_read_as_written() {
         let folder = entry.unwrap().path();
         for file in std::fs::read_dir(&folder).unwrap().map(|f| f.unwrap().path()) {
             if file.extension().is_some_and(|e| e == "camotics") {
-                let project = ger::tools::camotics::parse(&std::fs::read_to_string(&file).unwrap());
+                let project = ger_core::tools::camotics::parse(&std::fs::read_to_string(&file).unwrap());
                 assert!(project.is_ok(), "{}: {:?}", file.display(), project.err());
             }
         }
     }
     let read = |name: &str| {
         let path = corpus.join(format!("camotics-examples/{name}/{name}.camotics"));
-        ger::tools::camotics::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+        ger_core::tools::camotics::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
     };
-    use ger::config::ToolKind::*;
+    use ger_core::config::ToolKind::*;
     for (name, kind, diameter) in [("cameo", Ballmill, 2.0), ("bear", Ballmill, 3.175), ("tiger", Endmill, 2.5)] {
         let tool = &read(name).tools[0];
         assert_eq!((tool.number, tool.kind, tool.diameter), (1, kind, diameter), "{name}");

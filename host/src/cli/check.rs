@@ -10,11 +10,11 @@ use serde::Serialize;
 use super::render::{bounds, input_size, memory_limit, resolution, simulation, walk_events, Progress};
 use super::report::{plain_error, Report};
 use super::{load_config, styled, CommonArgs, Input};
-use crate::check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
-use crate::config::Config;
-use crate::diag::{Diagnostic, Severity};
-use crate::passes::Event;
-use crate::sim::Stock;
+use ger_check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
+use ger_core::config::Config;
+use ger_core::diag::{Diagnostic, Severity};
+use ger_core::passes::Event;
+use ger_sim::Stock;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {

@@ -13,16 +13,17 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::config::{locate, Config, DialectConfig, Step, StockConfig};
-use crate::diag::Diagnostic;
-use crate::emit::{preamble, Emitter};
-use crate::expand::{Limits, WasmWizards, Wizards};
-use crate::lex::{Lexed, Lexer, TokenKind};
-use crate::output::OutputFile;
-use crate::parse::parse;
-use crate::passes::{self, translate, Event, Library, Options, LAST_STAGE};
-use crate::statement::{Dialect, Units};
-use crate::tools;
+use ger_core::config::{locate, Config, DialectConfig, Step, StockConfig};
+use ger_core::diag::Diagnostic;
+use ger_core::emit::{preamble, Emitter};
+use ger_core::lex::{Lexed, Lexer, TokenKind};
+use ger_core::parse::parse;
+use ger_core::passes::{self, translate, Event, Library, Options, LAST_STAGE};
+use ger_core::statement::{Dialect, Units};
+use ger_core::tools;
+use ger_core::wizard::Wizards;
+use ger_output::OutputFile;
+use ger_wasm::{Limits, WasmWizards};
 use report::{plain_error, read_error, Report};
 
 #[derive(Parser)]
@@ -292,7 +293,7 @@ fn config_error(args: &CommonArgs, input: &Input, steps: &[Step], message: &str)
 
 /// The machine: `args.config`, or `ger.toml` beside the program. A bad one is
 /// an error rendered as rustc would (with colour when `styled`). The tools
-/// and stock the file leaves out come from the program (see [`crate::tools`]).
+/// and stock the file leaves out come from the program (see [`ger_core::tools`]).
 fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config, String> {
     let path = config_path(args, input);
     let name = path.as_ref().map(|path| path.display().to_string());
