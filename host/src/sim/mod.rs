@@ -241,6 +241,12 @@ struct Frame {
 }
 
 impl Frame {
+    /// The lowest a cell can end after `cut`: the tool's lowest point, or the
+    /// stock's bottom where cells stop there. A cell at or below it keeps its height.
+    fn reach(&self, cut: &Cut) -> f32 {
+        (cut.floor() as f32).max(self.clamp)
+    }
+
     /// The cells along X whose centres lie in [lo, hi].
     fn columns(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
         cells_between(lo, hi, self.x0, self.cx, self.nx)
@@ -389,13 +395,12 @@ impl Simulation {
             _ => *slot = Some((key, z)),
         }
         let frame = &self.frame;
-        let (Some((i0, i1)), Some((j0, j1))) =
-            (frame.columns(cut.lo[0], cut.hi[0]), frame.rows(cut.lo[1], cut.hi[1]))
+        let (Some((i0, i1)), Some((j0, j1))) = (frame.columns(cut.lo[0], cut.hi[0]), frame.rows(cut.lo[1], cut.hi[1]))
         else {
             return false;
         };
         // A tile whose every cell is already at or below the tool's lowest point keeps them all.
-        let floor = cut.floor() as f32;
+        let floor = frame.reach(&cut);
         let k = self.batch.len() as u32;
         let before = self.entries.len();
         for ty in j0 / TILE..=j1 / TILE {
@@ -499,6 +504,9 @@ impl Simulation {
 
     /// Cuts the batch now, so that every move cut so far has reported its contact.
     pub fn settle(&mut self) {
+        if let Some(&last) = self.tags.as_ref().and_then(|tags| tags.last()) {
+            self.settled_below = last + 1;
+        }
         self.flush();
     }
 
@@ -561,7 +569,7 @@ impl Tile<'_> {
     /// is at least zero), so such a block keeps every cell.
     fn cut(&mut self, cut: &Cut, frame: &Frame) -> Touch {
         let mut touch = Touch::default();
-        let floor = cut.floor() as f32;
+        let floor = frame.reach(cut);
         if *self.top <= floor {
             return touch;
         }
@@ -597,39 +605,37 @@ impl Tile<'_> {
             if c0 > c1 {
                 continue;
             }
-            for bi in c0 / BLOCK..=c1 / BLOCK {
-                let b = bj * side + bi;
-                if self.blocks[b] <= floor {
-                    continue;
-                }
-                let (b0, b1) = (bi * BLOCK, bi * BLOCK + BLOCK - 1);
-                let mut highest_cut = false;
-                for (r, row_runs) in runs.iter().enumerate() {
-                    let j = self.j_base + bj * BLOCK + r;
-                    let y = frame.y0 + (j as f64 + 0.5) * frame.cy;
-                    let row = &mut self.cells[(bj * BLOCK + r) * TILE..][..TILE];
-                    for &(i0, i1) in row_runs.iter().flatten() {
-                        for i in i0.max(b0)..=i1.min(b1) {
-                            let cell = &mut row[i];
-                            if *cell <= floor {
-                                continue;
-                            }
-                            let x = frame.x0 + ((self.i_base + i) as f64 + 0.5) * frame.cx;
-                            let z = cut.low(x, y) as f32;
-                            if z < *cell {
-                                let old = *cell;
-                                highest_cut |= old >= self.blocks[b];
-                                touch.depth = touch.depth.max(old - z.max(frame.floor));
-                                touch.below = touch.below.max(old.min(frame.floor) - z);
-                                *cell = z.max(frame.clamp);
-                            }
+            // The highest cell of each block of this block row: if none is above
+            // the floor, the row is passed over; each block whose highest cell
+            // is lowered finds its new one after.
+            let tops: [f32; TILE / BLOCK] = std::array::from_fn(|bi| self.blocks[bj * side + bi]);
+            if tops[c0 / BLOCK..=c1 / BLOCK].iter().all(|&top| top <= floor) {
+                continue;
+            }
+            let mut topped = [false; TILE / BLOCK];
+            for (r, row_runs) in runs.iter().enumerate() {
+                let y = frame.y0 + ((self.j_base + bj * BLOCK + r) as f64 + 0.5) * frame.cy;
+                let row = &mut self.cells[(bj * BLOCK + r) * TILE..][..TILE];
+                for &(i0, i1) in row_runs.iter().flatten() {
+                    for (i, cell) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
+                        let old = *cell;
+                        if old <= floor {
+                            continue;
+                        }
+                        let x = frame.x0 + ((self.i_base + i) as f64 + 0.5) * frame.cx;
+                        let z = cut.low(x, y) as f32;
+                        if z < old {
+                            topped[i / BLOCK] |= old >= tops[i / BLOCK];
+                            touch.depth = touch.depth.max(old - z.max(frame.floor));
+                            touch.below = touch.below.max(old.min(frame.floor) - z);
+                            *cell = z.max(frame.clamp);
                         }
                     }
                 }
-                if highest_cut {
-                    self.blocks[b] = self.highest_in_block(bi, bj, i_end, j_end);
-                    lowered = true;
-                }
+            }
+            for (bi, _) in topped.iter().enumerate().filter(|(_, topped)| **topped) {
+                self.blocks[bj * side + bi] = self.highest_in_block(bi, bj, i_end, j_end);
+                lowered = true;
             }
         }
         if lowered {
