@@ -295,4 +295,48 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn a_retract_is_its_plunge_and_a_move_back_is_the_move() {
+        let cutter = Cutter { radius: 0.5, shape: Shape::Ball };
+        for (a, b) in [([1.0, 2.0, 3.0], [1.0, 2.0, -1.0]), ([0.0, 0.0, 0.0], [2.0, -1.0, -0.5])] {
+            let (there, back) = (Cut::line(a, b, cutter), Cut::line(b, a, cutter));
+            assert_eq!(there.key(), back.key());
+            for p in [[1.0, 2.0], [1.2, 2.3], [1.0, 0.0], [0.5, -0.3]] {
+                assert_eq!(there.low(p[0], p[1]).to_bits(), back.low(p[0], p[1]).to_bits(), "{a:?}-{b:?} at {p:?}");
+            }
+        }
+        // Straight down: where the tip goes lowest, whatever the height it came from.
+        let plunge = Cut::line([1.0, 2.0, 3.0], [1.0, 2.0, -1.0], cutter);
+        assert_eq!(plunge.key().1, -1.0);
+        assert_eq!(plunge.low(1.0, 2.0), -1.0);
+        assert_eq!(plunge.floor(), -1.0);
+    }
+
+    #[test]
+    fn an_arcs_rows_hold_every_point_it_cuts_and_not_the_ring_inside() {
+        let cutter = Cutter { radius: 0.4, shape: Shape::Ball };
+        for (start, sweep) in [(0.3, 2.0), (1.0, -4.0), (-2.0, TAU), (0.0, 1e-9)] {
+            let cut = Cut {
+                geometry: Geometry::Arc { c: [1.0, 1.0], r: 2.0, start, sweep, z0: 0.0, dz: -0.5 },
+                cutter,
+                lo: [-1.4; 2],
+                hi: [3.4; 2],
+            };
+            for j in 0..=240 {
+                let y = -1.4 + j as f64 * 0.02;
+                let rows = cut.row(y);
+                for i in 0..=240 {
+                    let x = -1.4 + i as f64 * 0.02;
+                    let inside = rows.iter().flatten().any(|&(lo, hi)| lo <= x && x <= hi);
+                    if cut.low(x, y).is_finite() {
+                        assert!(inside, "{start} {sweep}: ({x}, {y}) is cut but in no row interval {rows:?}");
+                    }
+                    if (x - 1.0).hypot(y - 1.0) < 2.0 - 0.4 - 1e-6 {
+                        assert!(!inside, "{start} {sweep}: ({x}, {y}) is inside the ring but in {rows:?}");
+                    }
+                }
+            }
+        }
+    }
 }
