@@ -190,6 +190,34 @@ pub struct Tool {
 }
 
 pub const MAX_TOOLS: usize = 20;
+/// The most `[render] memory_limit_mb` and `--memory-limit` may say: 1 TiB.
+pub const MAX_MEMORY_MIB: u64 = 1 << 20;
+/// M47 runs a program again at most this many times.
+pub const MAX_M47_REPEATS: u32 = 1000;
+/// A plunge deeper than this many diameters is not a threshold any tool has.
+pub const MAX_PLUNGE_FRACTION: f64 = 10.0;
+
+/// What a real machine could mean, in its unit: a number past these is a mistake in the file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// The largest length or coordinate: 100 m, more than the longest gantry travels.
+    pub length: f64,
+    /// The smallest length (a tool, a cell, a stock's side): 1 µm.
+    pub smallest: f64,
+    /// The largest tool (diameter, flute length): 1 m, more than a face mill's.
+    pub tool: f64,
+    /// The slowest and fastest rapid, per minute: 1 mm/min to 1 km/min.
+    pub rapid_rate: (f64, f64),
+}
+
+impl Bounds {
+    pub fn of(units: Units) -> Bounds {
+        match units {
+            Units::Mm => Bounds { length: 100_000.0, smallest: 0.001, tool: 1000.0, rapid_rate: (1.0, 1_000_000.0) },
+            Units::Inch => Bounds { length: 4000.0, smallest: 0.00004, tool: 40.0, rapid_rate: (0.04, 40_000.0) },
+        }
+    }
+}
 
 impl Default for Config {
     fn default() -> Config {
@@ -319,95 +347,127 @@ impl Config {
     }
 
     fn validate(self, text: &str) -> Result<Config, Diagnostic> {
-        let at_key = |key: &str| {
-            let line = text.lines().position(|l| l.trim_start().starts_with(key)).unwrap_or(0);
-            Span::new(line as u32 + 1, 1, 0)
-        };
+        let at = |steps: &[Step], message: String| Diagnostic::error(locate(text, steps), message);
+        let bounds = Bounds::of(self.units);
+        let unit = self.units.abbreviation();
+        let (length, smallest, tool_size) = (bounds.length, bounds.smallest, bounds.tool);
+        let coordinates = |v: &[f64; 3]| v.iter().all(|x| x.abs() <= length);
+        let sizes = |v: &[f64; 3]| v.iter().all(|x| (smallest..=length).contains(x));
+        let lengths = format!("from {} to {length} {unit}", quoted(smallest));
         if self.tools.len() > MAX_TOOLS {
-            return Err(Diagnostic::error(
-                at_key("[[tools]]"),
-                format!("at most {MAX_TOOLS} tools fit in the tool table"),
-            ));
+            let message = format!("at most {MAX_TOOLS} tools fit in the tool table");
+            return Err(at(&[Step::Key("tools"), Step::Index(MAX_TOOLS)], message));
         }
         for (i, tool) in self.tools.iter().enumerate() {
-            if !(tool.diameter > 0.0 && tool.diameter.is_finite()) {
-                return Err(Diagnostic::error(
-                    at_key("diameter"),
-                    format!("tool {}: diameter must be greater than zero", tool.number),
-                ));
+            let key = |name| [Step::Key("tools"), Step::Index(i), Step::Key(name)];
+            let n = tool.number;
+            if !(smallest..=tool_size).contains(&tool.diameter) {
+                let message = format!("tool {n}: diameter must be from {} to {tool_size} {unit}", quoted(smallest));
+                return Err(at(&key("diameter"), message));
             }
-            if let Some(angle) = tool.tip_angle {
-                if !(angle > 0.0 && angle < 180.0) {
-                    return Err(Diagnostic::error(
-                        at_key("tip_angle"),
-                        format!("tool {}: tip_angle must be between 0 and 180 degrees", tool.number),
-                    ));
-                }
+            if tool.tip_angle.is_some_and(|angle| !(angle > 0.0 && angle < 180.0)) {
+                return Err(at(&key("tip_angle"), format!("tool {n}: tip_angle must be between 0 and 180 degrees")));
             }
-            if tool.flute_length.is_some_and(|l| !(l > 0.0 && l.is_finite())) {
-                return Err(Diagnostic::error(
-                    at_key("flute_length"),
-                    format!("tool {}: flute_length must be greater than zero", tool.number),
-                ));
+            if tool.flute_length.is_some_and(|l| !(smallest..=tool_size).contains(&l)) {
+                let message = format!("tool {n}: flute_length must be from {} to {tool_size} {unit}", quoted(smallest));
+                return Err(at(&key("flute_length"), message));
             }
-            if self.tools[..i].iter().any(|t| t.number == tool.number) {
-                return Err(Diagnostic::error(
-                    at_key("number"),
-                    format!("tool {} is in the tool table twice", tool.number),
-                ));
+            if self.tools[..i].iter().any(|t| t.number == n) {
+                return Err(at(&key("number"), format!("tool {n} is in the tool table twice")));
             }
+        }
+        let offsets = &self.offsets;
+        let names = ["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"];
+        for (name, entry) in names.into_iter().zip(1..) {
+            if !coordinates(&offsets.entry(entry)) {
+                let message = format!("[offsets] {name} must be three coordinates within ±{length} {unit}");
+                return Err(at(&[Step::Key("offsets"), Step::Key(name)], message));
+            }
+        }
+        if let Some(i) = offsets.extended.iter().position(|entry| !coordinates(entry)) {
+            let message = format!("[offsets] G54.1 P{} must be three coordinates within ±{length} {unit}", i + 1);
+            return Err(at(&[Step::Key("offsets"), Step::Key("G54.1"), Step::Index(i)], message));
         }
         let stock = &self.stock;
-        let positive = |v: &[f64; 3]| v.iter().all(|x| *x > 0.0 && x.is_finite());
+        let key = |table, name| [Step::Key(table), Step::Key(name)];
         if stock.size.is_some() && stock.margin.is_some() {
-            return Err(Diagnostic::error(at_key("margin"), "[stock] takes size (with origin) or margin, not both"));
+            let message = "[stock] takes size (with origin) or margin, not both".to_string();
+            return Err(at(&key("stock", "margin"), message));
         }
-        if stock.size.is_some_and(|size| !positive(&size)) {
-            return Err(Diagnostic::error(at_key("size"), "[stock] size must be three lengths above zero"));
+        if stock.size.is_some_and(|size| !sizes(&size)) {
+            return Err(at(&key("stock", "size"), format!("[stock] size must be three lengths {lengths}")));
         }
         if stock.origin.is_some() && stock.size.is_none() {
-            return Err(Diagnostic::error(at_key("origin"), "[stock] origin needs a size"));
+            return Err(at(&key("stock", "origin"), "[stock] origin needs a size".to_string()));
         }
-        if stock.origin.is_some_and(|o| o.iter().any(|x| !x.is_finite())) {
-            return Err(Diagnostic::error(at_key("origin"), "[stock] origin must be three numbers"));
+        if stock.origin.is_some_and(|o| !coordinates(&o)) {
+            let message = format!("[stock] origin must be three coordinates within ±{length} {unit}");
+            return Err(at(&key("stock", "origin"), message));
         }
-        if stock.margin.is_some_and(|m| !(m >= 0.0 && m.is_finite())) {
-            return Err(Diagnostic::error(at_key("margin"), "[stock] margin must be zero or more"));
+        // A margin is what is left round a cut, not a block of its own: at most a tool's size.
+        if stock.margin.is_some_and(|m| !(0.0..=tool_size).contains(&m)) {
+            return Err(at(&key("stock", "margin"), format!("[stock] margin must be from 0 to {tool_size} {unit}")));
         }
-        if self.render.scale.is_some_and(|s| !(s > 0.0 && s.is_finite())) {
-            return Err(Diagnostic::error(at_key("scale"), "[render] scale must be above zero (cells per unit)"));
+        let (fewest, most) = (1.0 / length, 1.0 / smallest);
+        if self.render.scale.is_some_and(|s| !(fewest..=most).contains(&s)) {
+            let message = format!(
+                "[render] scale must be from {} to {} cells per {unit} (cells from {length} down to {} {unit})",
+                quoted(fewest),
+                quoted(most),
+                quoted(smallest)
+            );
+            return Err(at(&key("render", "scale"), message));
+        }
+        if self.render.memory_limit_mb.is_some_and(|m| !(1..=MAX_MEMORY_MIB).contains(&m)) {
+            let message = format!("[render] memory_limit_mb must be from 1 to {MAX_MEMORY_MIB} (1 TiB)");
+            return Err(at(&key("render", "memory_limit_mb"), message));
         }
         let machine = &self.machine;
-        if machine.travel.is_some_and(|travel| !positive(&travel)) {
-            return Err(Diagnostic::error(at_key("travel"), "[machine] travel must be three lengths above zero"));
+        if !coordinates(&machine.second_reference) {
+            let message = format!("[machine] g30 must be three coordinates within ±{length} {unit}");
+            return Err(at(&key("machine", "g30"), message));
+        }
+        if machine.m47_repeats > MAX_M47_REPEATS {
+            let message = format!("[machine] m47_repeats must be from 0 to {MAX_M47_REPEATS}");
+            return Err(at(&key("machine", "m47_repeats"), message));
+        }
+        if machine.travel.is_some_and(|travel| !sizes(&travel)) {
+            return Err(at(&key("machine", "travel"), format!("[machine] travel must be three lengths {lengths}")));
         }
         if machine.home.is_some() && machine.travel.is_none() {
-            return Err(Diagnostic::error(at_key("home"), "[machine] home needs a travel"));
+            return Err(at(&key("machine", "home"), "[machine] home needs a travel".to_string()));
         }
         if let (Some(home), Some(travel)) = (machine.home, machine.travel) {
             if (0..3).any(|i| !(home[i] >= 0.0 && home[i] <= travel[i])) {
-                return Err(Diagnostic::error(at_key("home"), "[machine] home must lie within the travel"));
+                return Err(at(&key("machine", "home"), "[machine] home must lie within the travel".to_string()));
             }
         }
-        if machine.rapid_rate.is_some_and(|r| !(r > 0.0 && r.is_finite())) {
-            return Err(Diagnostic::error(at_key("rapid_rate"), "[machine] rapid_rate must be above zero"));
+        let (slowest, fastest) = bounds.rapid_rate;
+        if machine.rapid_rate.is_some_and(|r| !(slowest..=fastest).contains(&r)) {
+            let message = format!("[machine] rapid_rate must be from {} to {fastest} {unit}/min", quoted(slowest));
+            return Err(at(&key("machine", "rapid_rate"), message));
+        }
+        if machine.default_feed.is_some_and(|f| !(slowest..=fastest).contains(&f)) {
+            let message = format!("[machine] default_feed must be from {} to {fastest} {unit}/min", quoted(slowest));
+            return Err(at(&key("machine", "default_feed"), message));
         }
         let least = self.least_spline_tolerance();
-        if machine.spline_tolerance.is_some_and(|t| !(t >= least && t.is_finite())) {
-            let (u, d) = (self.units.abbreviation(), self.units.decimals());
-            return Err(Diagnostic::error(
-                at_key("spline_tolerance"),
-                format!("[machine] spline_tolerance must be at least {least:.d$} {u}, twice the output's resolution"),
-            ));
+        if machine.spline_tolerance.is_some_and(|t| !(least..=tool_size).contains(&t)) {
+            let d = self.units.decimals();
+            let message = format!(
+                "[machine] spline_tolerance must be at least {least:.d$} {unit}, twice the output's resolution, \
+                 and at most {tool_size} {unit}"
+            );
+            return Err(at(&key("machine", "spline_tolerance"), message));
         }
-        if self.check.min_arc_radius.is_some_and(|r| !(r >= 0.0 && r.is_finite())) {
-            return Err(Diagnostic::error(at_key("min_arc_radius"), "[check] min_arc_radius must be zero or more"));
+        if self.check.min_arc_radius.is_some_and(|r| !(0.0..=tool_size).contains(&r)) {
+            let message = format!("[check] min_arc_radius must be from 0 to {tool_size} {unit}");
+            return Err(at(&key("check", "min_arc_radius"), message));
         }
-        if self.check.plunge_fraction.is_some_and(|f| !(f > 0.0 && f.is_finite())) {
-            return Err(Diagnostic::error(at_key("plunge_fraction"), "[check] plunge_fraction must be above zero"));
-        }
-        if self.render.memory_limit_mb == Some(0) {
-            return Err(Diagnostic::error(at_key("memory_limit_mb"), "[render] memory_limit_mb must be above zero"));
+        if self.check.plunge_fraction.is_some_and(|f| !(f > 0.0 && f <= MAX_PLUNGE_FRACTION)) {
+            let message =
+                format!("[check] plunge_fraction must be above 0 and at most {MAX_PLUNGE_FRACTION} (diameters)");
+            return Err(at(&key("check", "plunge_fraction"), message));
         }
         Ok(self)
     }
@@ -459,6 +519,55 @@ impl Config {
     pub fn tool(&self, number: u32) -> Option<&Tool> {
         self.tools.iter().find(|t| t.number == number)
     }
+}
+
+/// One step to a key in a TOML document: a table's key, or an array's element.
+#[derive(Clone, Copy, Debug)]
+pub enum Step {
+    Key(&'static str),
+    Index(usize),
+}
+
+/// Where `steps` lead in `text`: from the last key to the end of its value
+/// (an array element's own span when the last step is an index). The
+/// start of the file if they lead nowhere (a default, not written in it).
+pub fn locate(text: &str, steps: &[Step]) -> Span {
+    use toml::de::{DeTable, DeValue};
+    let nowhere = Span::new(1, 1, 0);
+    let Ok(root) = DeTable::parse(text) else { return nowhere };
+    let mut table = Some(root.get_ref());
+    let mut array = None;
+    let mut start = 0;
+    let mut end = 0;
+    for step in steps {
+        let value = match *step {
+            Step::Key(name) => {
+                let Some((key, value)) = table.and_then(|t| t.iter().find(|(key, _)| key.get_ref() == name)) else {
+                    return nowhere;
+                };
+                start = key.span().start;
+                value
+            }
+            Step::Index(i) => {
+                let Some(value) = array.and_then(|a: &toml::de::DeArray| a.get(i)) else { return nowhere };
+                start = value.span().start;
+                value
+            }
+        };
+        end = value.span().end;
+        (table, array) = match value.get_ref() {
+            DeValue::Table(t) => (Some(t), None),
+            DeValue::Array(a) => (None, Some(a)),
+            _ => (None, None),
+        };
+    }
+    span_of(text, start..end.max(start))
+}
+
+/// A bound as the messages quote it: no exponent, no trailing zeros.
+pub fn quoted(x: f64) -> String {
+    let text = format!("{x:.6}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 fn span_of(text: &str, range: std::ops::Range<usize>) -> Span {
@@ -545,15 +654,44 @@ tip_angle = 90
     }
 
     #[test]
+    fn errors_point_at_the_key_in_its_own_table() {
+        let at = |text: &str| {
+            let Span { line, col, len } = Config::from_toml(text).unwrap_err().span;
+            (line, col, len)
+        };
+        // The second tool's diameter, not the first line that starts with `diameter`.
+        let two = "[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\n\n[[tools]]\nnumber = 2\nkind = \"drill\"\n  diameter = 0\n";
+        assert_eq!(at(two), (9, 3, 12));
+        // A dotted key, an inline table: the key itself.
+        assert_eq!(at("render.scale = 1e12\n"), (1, 8, 12));
+        assert_eq!(at("stock = { size = [0, 1, 1] }\n"), (1, 11, 16));
+        // The 21st [[tools]] header for a table over 20.
+        let many: String =
+            (1..=21).map(|n| format!("[[tools]]\nnumber = {n}\nkind = \"endmill\"\ndiameter = 1\n")).collect();
+        assert_eq!(at(&many).0, 81);
+    }
+
+    #[test]
     fn bad_stock_and_render_settings_are_errors() {
         for (text, line, words) in [
             ("[stock]\nsize = [1, 1, 1]\nmargin = 1\n", 3, "not both"),
-            ("[stock]\nsize = [1, 0, 1]\n", 2, "above zero"),
+            ("[stock]\nsize = [1, 0, 1]\n", 2, "from 0.00004 to 4000 in"),
             ("[stock]\norigin = [1, 0, 1]\n", 2, "needs a size"),
-            ("[stock]\nmargin = -1\n", 2, "zero or more"),
-            ("[render]\nscale = 0\n", 2, "above zero"),
+            ("[stock]\nmargin = -1\n", 2, "from 0 to 40 in"),
+            ("[render]\nscale = 0\n", 2, "cells per in"),
+            ("[render]\nmemory_limit_mb = 0\n", 2, "from 1 to 1048576"),
+            ("units = \"mm\"\n[machine]\nm47_repeats = 1000000\n", 3, "from 0 to 1000"),
+            ("units = \"mm\"\n[machine]\nrapid_rate = 1e-300\n", 3, "from 1 to 1000000 mm/min"),
+            ("[machine]\ng30 = [0, 0, 1e300]\n", 2, "within ±4000 in"),
+            ("[machine]\ndefault_feed = 0\n", 2, "default_feed must be from 0.04 to 40000 in/min"),
+            ("[offsets]\n\"G59.3\" = [0, 0, 1e300]\n", 2, "G59.3 must be"),
+            ("[offsets]\n\"G54.1\" = [\n  [1, 2, 3],\n  [0, 1e300, 0],\n]\n", 4, "G54.1 P2 must be"),
+            ("[check]\nplunge_fraction = 1e9\n", 2, "at most 10"),
+            ("[check]\nmin_arc_radius = 1e300\n", 2, "from 0 to 40 in"),
+            ("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nflute_length = 1e300\n", 5, "flute_length"),
             ("[machine]\nspline_tolerance = 0.0001\n", 2, "at least 0.0002 in"),
             ("units = \"mm\"\n[machine]\nspline_tolerance = -1\n", 3, "at least 0.002 mm"),
+            ("[machine]\nspline_tolerance = 1e300\n", 2, "at most 40 in"),
             ("[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 1\ntip_angle = 180\n", 5, "tip_angle"),
         ] {
             let err = Config::from_toml(text).unwrap_err();

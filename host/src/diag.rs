@@ -4,6 +4,7 @@
 //! itself, so a stage can report on a line long after the lexer has dropped it.
 //! Rendering (which needs the text again) is the job of `cli`.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::sync::Arc;
 
@@ -99,5 +100,28 @@ impl fmt::Display for Diagnostic {
             Severity::Error => "error",
         };
         write!(f, "{}:{}: {}: {}", self.span.line, self.span.col, level, self.message)
+    }
+}
+
+/// `text` as a diagnostic shows it: at most `max` characters, then a note of
+/// how much was left out. Names and messages from wizards can be any length,
+/// and a diagnostic must stay readable (and small).
+pub fn clip(text: &str, max: usize) -> Cow<'_, str> {
+    match text.char_indices().nth(max) {
+        None => Cow::Borrowed(text),
+        Some((end, _)) => Cow::Owned(format!("{}... ({} more bytes cut)", &text[..end], text.len() - end)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::clip;
+
+    #[test]
+    fn clip_keeps_short_text_and_says_how_much_it_cut() {
+        assert_eq!(clip("Pocket", 6), "Pocket");
+        assert_eq!(clip("Pocket", 3), "Poc... (3 more bytes cut)");
+        // Characters, not bytes: a cut never splits one.
+        assert_eq!(clip("ééé", 1), "é... (4 more bytes cut)");
     }
 }

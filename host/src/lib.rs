@@ -2,7 +2,8 @@
 //!
 //! The module tree is the pipeline (see ARCHITECTURE.md at the repository root):
 //! [`lex`] -> [`parse`] -> [`passes`] 00..05 -> [`emit`], with [`cli`] the only
-//! module that touches argv, files or terminals.
+//! module that touches argv, files or terminals, and [`output`] the one way a
+//! file is written.
 
 pub mod check;
 pub mod cli;
@@ -12,6 +13,7 @@ pub mod emit;
 pub mod expand;
 pub mod geom;
 pub mod lex;
+pub mod output;
 pub mod parse;
 pub mod passes;
 pub mod pulses;

@@ -2,14 +2,13 @@
 //!
 //! Every program in `tests/differential/` is translated by ger and run by
 //! `rs274 -g`; the moves each produces (kind, end point, arc centre and turn,
-//! feed) are put in machine coordinates in millimetres and compared one by
-//! one. rs274 reports positions relative to the active offsets and in the
-//! program's current unit, so its offsets and unit changes are followed here.
+//! feed, dwells, spindle changes) are put in machine coordinates in
+//! millimetres and compared one by one (`support/rs274.rs`). Programs in
+//! `tests/differential/lenient/` use the lenient dialect's codes (canned
+//! cycles, G28/G30, G53, G10) and are run with `--lenient`.
 //!
-//! Programs in `tests/differential/lenient/` use the lenient dialect's codes
-//! (canned cycles, G28/G30, G53, G10) and are run with `--lenient`; there
-//! dwells and spindle starts and stops are compared too. LinuxCNC writes
-//! zero-length moves that ger leaves out, so those are not compared.
+//! The other tests here check the comparison itself, on inputs whose moves
+//! are worked out by hand.
 //!
 //! rs274 comes from Debian's `linuxcnc-uspace`. Where it is not installed the
 //! test says so and passes, except under CI (the `CI` variable), where a
@@ -19,61 +18,25 @@ mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Duration;
 
-const TOLERANCE_MM: f64 = 0.002;
+use support::rs274::{self, Kind, Machine, Moves, TOLERANCE_MM};
 
-#[derive(Debug, Clone, PartialEq)]
-enum Kind {
-    Rapid,
-    Feed,
-    /// Centre in machine coordinates, and the turn: +1 counter-clockwise, -1 clockwise.
-    Arc {
-        centre: [f64; 3],
-        turn: i32,
-    },
-    Dwell(f64),
-    /// +1 clockwise, -1 counter-clockwise, 0 stopped.
-    Spindle(i32),
-}
+const TIME_LIMIT: Duration = Duration::from_secs(20);
 
-#[derive(Debug)]
-struct Move {
-    kind: Kind,
-    end: [f64; 3],
-    /// mm/min; none for rapids.
-    feed: Option<f64>,
-    /// Where the move came from, for messages.
-    source: String,
-}
-
-#[derive(Clone, Copy)]
-enum Plane {
-    XY,
-    ZX,
-    YZ,
-}
-
-impl Plane {
-    /// The plane's first and second axes and its normal, as both programs order them.
-    fn axes(self) -> [usize; 3] {
-        match self {
-            Plane::XY => [0, 1, 2],
-            Plane::ZX => [2, 0, 1],
-            Plane::YZ => [1, 2, 0],
-        }
+fn rs274_missing() -> bool {
+    if rs274::available() {
+        return false;
     }
-}
-
-fn rs274_available() -> bool {
-    Command::new("rs274").arg("-h").output().is_ok()
+    let message = "rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not installed: \
+                   the differential test against it did NOT run";
+    support::peer_missing(message);
+    true
 }
 
 #[test]
 fn ger_moves_like_rs274() {
-    if !rs274_available() {
-        let message = "rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not installed: \
-                       the differential test against it did NOT run";
-        support::peer_missing(message);
+    if rs274_missing() {
         return;
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/differential");
@@ -94,241 +57,272 @@ fn ger_moves_like_rs274() {
     let runs = strict.iter().map(|p| (p, false)).chain(lenient.iter().map(|p| (p, true)));
     let mut failures = Vec::new();
     for (program, is_lenient) in runs {
-        let ger = moving(ger_moves(program, &config, is_lenient));
-        let peer = moving(rs274_moves(program, &machine));
-        if let Err(problem) = compare(&ger, &peer) {
-            failures.push(format!("{}: {problem}", program.file_name().unwrap().to_string_lossy()));
-        } else {
-            eprintln!("{}: {} moves agree", program.display(), ger.len());
+        let name = program.file_name().unwrap().to_string_lossy();
+        let peer = rs274::moves(program, &machine, TIME_LIMIT)
+            .unwrap_or_else(|refusal| panic!("rs274 refuses {name}: {refusal:?}"));
+        match rs274::compare(&ger_moves(program, &config, is_lenient), &peer, TOLERANCE_MM) {
+            Ok(agreement) => eprintln!("{name}: {} moves agree", agreement.moves),
+            Err(disagreement) => failures.push(format!("{name}: {disagreement}")),
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// Drops moves that go nowhere: LinuxCNC writes some (a retract to where the
-/// tool is), ger does not.
-fn moving(moves: Vec<Move>) -> Vec<Move> {
-    let mut at = [0.0; 3];
-    let mut kept = Vec::new();
-    for m in moves {
-        let stays =
-            matches!(m.kind, Kind::Rapid | Kind::Feed) && m.end.iter().zip(at).all(|(a, b)| (a - b).abs() < 1e-9);
-        if !m.end[0].is_nan() {
-            at = m.end;
-        }
-        if !stays {
-            kept.push(m);
-        }
-    }
-    kept
-}
-
-fn compare(ger: &[Move], peer: &[Move]) -> Result<(), String> {
-    if ger.len() != peer.len() {
-        return Err(format!("ger made {} moves, rs274 {}\nger: {ger:#?}\nrs274: {peer:#?}", ger.len(), peer.len()));
-    }
-    for (g, p) in ger.iter().zip(peer) {
-        let close = |a: &[f64; 3], b: &[f64; 3]| a.iter().zip(b).all(|(a, b)| (a - b).abs() <= TOLERANCE_MM);
-        let same_kind = match (&g.kind, &p.kind) {
-            (Kind::Arc { centre: c1, turn: t1 }, Kind::Arc { centre: c2, turn: t2 }) => t1 == t2 && close(c1, c2),
-            (a, b) => a == b,
-        };
-        let same_feed = match (g.feed, p.feed) {
-            (Some(a), Some(b)) => (a - b).abs() <= TOLERANCE_MM,
-            (a, b) => a.is_none() && b.is_none(),
-        };
-        let same_end = g.end[0].is_nan() && p.end[0].is_nan() || close(&g.end, &p.end);
-        let same_kind =
-            same_kind || matches!((&g.kind, &p.kind), (Kind::Dwell(a), Kind::Dwell(b)) if (a - b).abs() < 1e-9);
-        if !same_kind || !same_end || !same_feed {
-            let show = |m: &Move| format!("{}\n      -> {:?}, end {:?}, feed {:?}", m.source, m.kind, m.end, m.feed);
-            return Err(format!("moves differ:\n  {}\n  {}", show(g), show(p)));
-        }
-    }
-    Ok(())
-}
-
-/// The machine of a ger.toml, in mm (the tests' machine is in mm): the
-/// G54..G59 table, then the G30 point.
-fn machine(config: &Path) -> Vec<[f64; 3]> {
+/// The machine of a ger.toml in mm (the tests' machine is in mm): its
+/// G54..G59 table and G30 point.
+fn machine(config: &Path) -> Machine {
     let text = std::fs::read_to_string(config).unwrap();
     let value: toml::Value = toml::from_str(&text).unwrap();
     assert_eq!(value["units"].as_str(), Some("mm"));
     let triple = |entry: &toml::Value| -> [f64; 3] { std::array::from_fn(|i| entry[i].as_float().unwrap()) };
-    let mut rows: Vec<[f64; 3]> = (54..=59).map(|n| triple(&value["offsets"][&format!("G{n}")])).collect();
-    rows.push(triple(&value["machine"]["g30"]));
-    rows
+    let work_offsets = (54..=59).map(|n| triple(&value["offsets"][&format!("G{n}")])).collect();
+    Machine { work_offsets, g30: triple(&value["machine"]["g30"]), ..Machine::default() }
 }
 
-fn ger_moves(program: &Path, config: &Path, lenient: bool) -> Vec<Move> {
+fn ger_moves(program: &Path, config: &Path, lenient: bool) -> Moves {
     let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
     command.arg("run").arg(program).arg("--config").arg(config);
     if lenient {
         command.arg("--lenient");
     }
     let output = command.output().unwrap();
-    let stdout = String::from_utf8(output.stdout).unwrap();
     assert!(
         output.status.success(),
         "ger failed on {}:\n{}",
         program.display(),
         String::from_utf8_lossy(&output.stderr)
     );
-    let mut moves = Vec::new();
-    let mut position = [0.0; 3];
-    let mut plane = Plane::XY;
-    let mut feed = None;
-    for line in stdout.lines().filter(|l| l.starts_with('N')) {
-        let words: Vec<(char, f64)> = line
-            .split_whitespace()
-            .skip(1)
-            .map(|w| (w.chars().next().unwrap(), w[1..].parse::<f64>().unwrap()))
-            .collect();
-        let word = |letter: char| words.iter().find(|(l, _)| *l == letter).map(|(_, v)| *v);
-        let code = words[0];
-        if let Some(f) = word('F') {
-            feed = Some(f);
-        }
-        let event = |kind: Kind| Move { kind, end: [f64::NAN; 3], feed: None, source: format!("ger: {line}") };
-        match code {
-            ('G', 4.0) => moves.push(event(Kind::Dwell(word('P').unwrap()))),
-            ('M', 3.0) => moves.push(event(Kind::Spindle(1))),
-            ('M', 4.0) => moves.push(event(Kind::Spindle(-1))),
-            // M30 stops the spindle, as LinuxCNC's canonical output says.
-            ('M', 5.0) | ('M', 30.0) => moves.push(event(Kind::Spindle(0))),
-            ('G', 17.0) => plane = Plane::XY,
-            ('G', 18.0) => plane = Plane::ZX,
-            ('G', 19.0) => plane = Plane::YZ,
-            ('G', g) if g <= 3.0 => {
-                let start = position;
-                for (axis, letter) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-                    if let Some(v) = word(letter) {
-                        position[axis] = v;
-                    }
-                }
-                let kind = match g as u32 {
-                    0 => Kind::Rapid,
-                    1 => Kind::Feed,
-                    n => {
-                        let [a, b, normal] = plane.axes();
-                        let offsets = [word('I'), word('J'), word('K')];
-                        let mut centre = start;
-                        for axis in [a, b] {
-                            centre[axis] += offsets[axis].unwrap_or(0.0);
-                        }
-                        centre[normal] = 0.0;
-                        Kind::Arc { centre, turn: if n == 2 { -1 } else { 1 } }
-                    }
-                };
-                let feed = if kind == Kind::Rapid { None } else { feed };
-                moves.push(Move { kind, end: position, feed, source: format!("ger: {line}") });
-            }
-            _ => {}
-        }
-    }
-    moves
+    Moves::from_ger(&String::from_utf8(output.stdout).unwrap())
 }
 
-fn rs274_moves(program: &Path, machine: &[[f64; 3]]) -> Vec<Move> {
-    // rs274 reads the offsets table from a var file, in inches, and writes it
-    // back when it exits: give it a fresh one each time.
-    let scratch = tempfile::tempdir().unwrap();
-    let var = scratch.path().join("ger.var");
-    let mut text = String::new();
-    let (table, g30) = machine.split_at(6);
-    // rs274 wants its parameters in ascending order: G30's point (5181..) first.
-    for (axis, value) in g30[0].iter().enumerate() {
-        text.push_str(&format!("{}\t{:.6}\n", 5181 + axis, value / 25.4));
-    }
-    for (i, entry) in table.iter().enumerate() {
-        for (axis, value) in entry.iter().enumerate() {
-            text.push_str(&format!("{}\t{:.6}\n", 5221 + 20 * i + axis, value / 25.4));
-        }
-    }
+/// The moves of canonical calls as rs274 prints them, one a line.
+fn canon(calls: &[&str]) -> Moves {
+    let text: String = calls.iter().enumerate().map(|(i, call)| format!("{:5} {call}\n", i + 1)).collect();
+    Moves::from_rs274(&text)
+}
 
-    std::fs::write(&var, text).unwrap();
-    // rs274 truncates $HOME/.tool.mmap when it starts: a home of its own keeps runs apart.
-    let output =
-        Command::new("rs274").env("HOME", scratch.path()).arg("-g").arg("-v").arg(&var).arg(program).output().unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(
-        !stdout
-            .lines()
-            .chain(stderr.lines())
-            .any(|l| !l.contains("N.....") && !l.trim().is_empty() && l != "executing"),
-        "rs274 reported a problem with {}:\n{stdout}{stderr}",
-        program.display()
+fn ends(moves: &Moves) -> Vec<[f64; 3]> {
+    moves.iter().filter_map(|m| m.end).collect()
+}
+
+fn assert_close(got: &[[f64; 3]], expected: &[[f64; 3]]) {
+    assert_eq!(got.len(), expected.len(), "{got:?} against {expected:?}");
+    for (g, e) in got.iter().zip(expected) {
+        assert!(g.iter().zip(e).all(|(a, b)| (a - b).abs() < 1e-9), "{got:?} against {expected:?}");
+    }
+}
+
+#[test]
+fn rs274_positions_are_turned_into_machine_millimetres() {
+    // In inches, G55 at (1, 2, 0) in, a G92 shift of (0.5, 0, 0) in, the
+    // frame turned by 90 degrees and a tool 1 in long: the program point
+    // (1, 0, 0) is (1.5, 0) after G92, (0, 1.5) turned, (1, 3.5, 1) in in
+    // the machine, (25.4, 88.9, 25.4) mm.
+    let moves = canon(&[
+        "N..... USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
+        "N10    SET_G5X_OFFSET(2, 1.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N11    SET_G92_OFFSET(0.5000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N12    SET_XY_ROTATION(90.0000)",
+        "N13    USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 1.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)",
+        "N14    STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        // Back in mm, the offsets stay where they are in the machine.
+        "N15    USE_LENGTH_UNITS(CANON_UNITS_MM)",
+        "N16    STRAIGHT_FEED(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+    ]);
+    assert_close(&ends(&moves), &[[25.4, 88.9, 25.4], [25.4, 50.8 + 12.7, 25.4]]);
+    let lines: Vec<Option<u32>> = moves.iter().map(|m| m.line).collect();
+    assert_eq!(lines, [Some(14), Some(16)]);
+}
+
+#[test]
+fn rs274_arcs_in_every_plane_and_feeds_in_their_unit() {
+    // G18: ARC_FEED's first axis is Z and its second X; G19: Y, then Z.
+    let moves = canon(&[
+        "N1     SET_FEED_RATE(10.0000)",
+        "N2     SELECT_PLANE(CANON_PLANE_XZ)",
+        "N3     ARC_FEED(1.0000, 2.0000, 0.0000, 1.0000, -1, 5.0000, 0.0000, 0.0000, 0.0000)",
+        "N4     USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
+        "N5     SELECT_PLANE(CANON_PLANE_YZ)",
+        "N6     ARC_FEED(1.0000, 0.0000, 0.0000, 0.0000, 2, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N7     SET_FEED_RATE(10.0000)",
+        "N8     STRAIGHT_FEED(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+    ]);
+    let all: Vec<&rs274::Move> = moves.iter().collect();
+    assert_eq!(all[0].kind, Kind::Arc { centre: [1.0, 0.0, 0.0], turn: -1 });
+    assert_close(&[all[0].end.unwrap()], &[[2.0, 5.0, 1.0]]);
+    assert_eq!(all[1].kind, Kind::Arc { centre: [0.0, 0.0, 0.0], turn: 2 });
+    assert_close(&[all[1].end.unwrap()], &[[0.0, 25.4, 0.0]]);
+    // F10 in mm holds after G20 until F is given again, in inches.
+    let feeds: Vec<Option<f64>> = all.iter().map(|m| m.feed).collect();
+    assert_eq!(feeds, [Some(10.0), Some(10.0), Some(254.0)]);
+}
+
+#[test]
+fn rs274_feeds_per_revolution_and_synchronised_become_per_minute() {
+    // G95 F0.1 mm a turn at 500 rpm: 50 mm/min. G33 K1.5 at 500 rpm: 750 mm/min,
+    // as rs274 prints them.
+    let moves = canon(&[
+        "N1     SET_SPINDLE_SPEED(0, 500.0000)",
+        "N2     SET_FEED_MODE(0, 1)",
+        "N3     SET_FEED_RATE(0.1000)",
+        "N4     STRAIGHT_FEED(30.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N5     SET_FEED_MODE(0, 0)",
+        "N6     SET_FEED_RATE(0.0000)",
+        "N7     START_SPEED_FEED_SYNC(1.500000,0)",
+        "N8     STRAIGHT_FEED(30.0000, 0.0000, -10.0000, 0.0000, 0.0000, 0.0000)",
+        "N9     STOP_SPEED_FEED_SYNCH()",
+        // G33.1 K1.25: a rigid tap to Z-5 and back, at 625 mm/min.
+        "N10    START_SPEED_FEED_SYNC(1.250000,0)",
+        "N10    RIGID_TAP(30.0000, 0.0000, -5.0000)",
+        "N10    STOP_SPEED_FEED_SYNCH()",
+    ]);
+    let feeds: Vec<f64> = moves.iter().map(|m| m.feed.unwrap()).collect();
+    assert!((feeds[0] - 50.0).abs() < 1e-9 && (feeds[1] - 750.0).abs() < 1e-9, "{feeds:?}");
+    let tap = moves.iter().last().unwrap();
+    assert_eq!((&tap.kind, tap.end, tap.feed), (&Kind::Tap, Some([30.0, 0.0, -5.0]), Some(625.0)));
+}
+
+#[test]
+fn spindle_commands_that_change_nothing_are_left_out() {
+    let moves = canon(&[
+        "N2     STOP_SPINDLE_TURNING(0)",
+        "N3     START_SPINDLE_CLOCKWISE(0)",
+        "N6     START_SPINDLE_CLOCKWISE(0)",
+        "N7     DWELL(0.5000)",
+        // G84 at the bottom of the hole: a stop, then the reverse.
+        "N8     STOP_SPINDLE_TURNING(0)",
+        "N8     START_SPINDLE_COUNTERCLOCKWISE(0)",
+        "N9     DWELL(0.2500)",
+        "N10    STOP_SPINDLE_TURNING(0)",
+    ]);
+    let kinds: Vec<&Kind> = moves.iter().map(|m| &m.kind).collect();
+    let expected = [&Kind::Spindle(1), &Kind::Dwell(0.5), &Kind::Spindle(-1), &Kind::Dwell(0.25), &Kind::Spindle(0)];
+    assert_eq!(kinds, expected);
+}
+
+#[test]
+fn moves_that_go_nowhere_on_one_side_are_passed_over() {
+    // rs274 moves to where the tool is (line 1); ger, rounding to 0.001 mm,
+    // makes a move of 0.001 mm (line 3) that rs274 does not.
+    let peer = canon(&[
+        "N1     STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N2     STRAIGHT_TRAVERSE(0.0000, 0.0000, 1.0000, 0.0000, 0.0000, 0.0000)",
+        "N4     STRAIGHT_TRAVERSE(5.0000, 0.0000, 1.0000, 0.0000, 0.0000, 0.0000)",
+    ]);
+    let ger = Moves::from_ger("G21\nN2 G00 Z1.000\nN3 G00 Z1.001\nN4 G00 X5.000 Z1.000\n");
+    assert_eq!(rs274::compare(&ger, &peer, TOLERANCE_MM).unwrap().moves, 2);
+    // A dwell of no time on one side is passed over too.
+    let with_dwell = Moves::from_ger("G21\nN2 G00 Z1.000\nN3 G04 P0.000\nN4 G00 X5.000 Z1.000\n");
+    assert_eq!(rs274::compare(&with_dwell, &peer, TOLERANCE_MM).unwrap().moves, 2);
+    // A move that does go somewhere is not passed over.
+    let ger = Moves::from_ger("G21\nN2 G00 Z1.000\nN3 G00 Z1.500\nN4 G00 X5.000 Z1.000\n");
+    assert!(rs274::compare(&ger, &peer, TOLERANCE_MM).is_err());
+}
+
+#[test]
+fn ger_output_is_read_as_a_controller_runs_it() {
+    // A G43 with Z after a G01 moves at the feed; M06 stops the spindle;
+    // the arc's centre is relative to its start.
+    let output = "(ger: translated from part.ngc)\nG21\nG90\nG17\nN2 M03 S1000\nN3 G01 X10.000 F100.000\n\
+                  N4 G43 Z5.000 H1\nN5 M06 T2\nN6 G02 X20.000 Y0.000 I5.000 J0.000\nN7 G00 Z10.000\n";
+    let moves = Moves::from_ger(output);
+    let kinds: Vec<&Kind> = moves.iter().map(|m| &m.kind).collect();
+    let arc = Kind::Arc { centre: [15.0, 0.0, 0.0], turn: -1 };
+    assert_eq!(kinds, [&Kind::Spindle(1), &Kind::Feed, &Kind::Feed, &Kind::Spindle(0), &arc, &Kind::Rapid]);
+    assert_close(&ends(&moves), &[[10.0, 0.0, 0.0], [10.0, 0.0, 5.0], [20.0, 0.0, 5.0], [20.0, 0.0, 10.0]]);
+    let lines: Vec<u32> = moves.iter().map(|m| m.line.unwrap()).collect();
+    assert_eq!(lines, [2, 3, 4, 5, 6, 7]);
+    // In inches every length is turned into mm.
+    let inches = Moves::from_ger("(ger)\nG20\nG90\nG17\nN1 G01 X1.0000 F10.0000\n");
+    let first = inches.iter().next().unwrap();
+    assert_eq!((first.end, first.feed), (Some([25.4, 0.0, 0.0]), Some(254.0)));
+}
+
+#[test]
+fn the_comparison_tells_rapids_from_feeds_and_names_both_sides() {
+    let ger = Moves::from_ger("G21\nN2 G00 X1.000\nN3 G00 Z-1.000\n");
+    let peer = canon(&[
+        "N2     STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N3     SET_FEED_RATE(100.0000)",
+        "N3     STRAIGHT_FEED(1.0000, 0.0000, -1.0000, 0.0000, 0.0000, 0.0000)",
+    ]);
+    let disagreement = rs274::compare(&ger, &peer, TOLERANCE_MM).unwrap_err();
+    assert_eq!(
+        disagreement.to_string(),
+        "a rapid where rs274 has a feed: ger move 2, line 3 `N3 G00 Z-1.000`; \
+         rs274 move 2, line 3 `STRAIGHT_FEED(1.0000, 0.0000, -1.0000, 0.0000, 0.0000, 0.0000)`"
     );
+    assert!(rs274::compare(&peer, &ger, TOLERANCE_MM).is_err(), "a feed where the peer has a rapid differs too");
+}
 
-    let mut moves = Vec::new();
-    let mut mm_per_unit = 1.0;
-    let mut g5x = [0.0; 3];
-    let mut g92 = [0.0; 3];
-    let mut plane = Plane::XY;
-    let mut feed = None;
-    for line in stdout.lines() {
-        let Some(call) = line.split("N..... ").nth(1) else { continue };
-        let (name, args) = call.split_once('(').unwrap_or((call, ")"));
-        let args: Vec<&str> = args.trim_end_matches(')').split(',').map(str::trim).collect();
-        let number = |i: usize| args[i].parse::<f64>().unwrap();
-        let machine = |p: [f64; 3], g5x: &[f64; 3], g92: &[f64; 3]| -> [f64; 3] {
-            std::array::from_fn(|axis| (p[axis] + g5x[axis] + g92[axis]) * mm_per_unit)
-        };
-        match name {
-            "USE_LENGTH_UNITS" => {
-                let new = if args[0] == "CANON_UNITS_INCHES" { 25.4 } else { 1.0 };
-                // Offsets are kept in the current unit: rescale them.
-                for offset in [&mut g5x, &mut g92] {
-                    *offset = offset.map(|v| v * mm_per_unit / new);
-                }
-                mm_per_unit = new;
-            }
-            "SET_G5X_OFFSET" => g5x = [number(1), number(2), number(3)],
-            "SET_G92_OFFSET" => g92 = [number(0), number(1), number(2)],
-            "SELECT_PLANE" => {
-                plane = match args[0] {
-                    "CANON_PLANE_XY" => Plane::XY,
-                    "CANON_PLANE_XZ" => Plane::ZX,
-                    _ => Plane::YZ,
-                }
-            }
-            "SET_FEED_RATE" => feed = Some(number(0) * mm_per_unit),
-            "DWELL" => {
-                moves.push(Move { kind: Kind::Dwell(number(0)), end: [f64::NAN; 3], feed: None, source: call.into() })
-            }
-            "START_SPINDLE_CLOCKWISE" | "START_SPINDLE_COUNTERCLOCKWISE" | "STOP_SPINDLE_TURNING" => {
-                let turn = match name {
-                    "START_SPINDLE_CLOCKWISE" => 1,
-                    "START_SPINDLE_COUNTERCLOCKWISE" => -1,
-                    _ => 0,
-                };
-                moves.push(Move { kind: Kind::Spindle(turn), end: [f64::NAN; 3], feed: None, source: call.into() });
-            }
-            // What follows the end (a spindle stop, resets) is LinuxCNC's, not the program's.
-            "PROGRAM_END" => break,
-            "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
-                let end = machine([number(0), number(1), number(2)], &g5x, &g92);
-                let (kind, feed) = if name == "STRAIGHT_TRAVERSE" { (Kind::Rapid, None) } else { (Kind::Feed, feed) };
-                moves.push(Move { kind, end, feed, source: format!("rs274: {call}") });
-            }
-            "ARC_FEED" => {
-                let [a, b, normal] = plane.axes();
-                let mut end = [0.0; 3];
-                end[a] = number(0);
-                end[b] = number(1);
-                end[normal] = number(5);
-                let mut centre = [0.0; 3];
-                centre[a] = number(2);
-                centre[b] = number(3);
-                let end = machine(end, &g5x, &g92);
-                let mut centre = machine(centre, &g5x, &g92);
-                centre[normal] = 0.0;
-                let turn = number(4).signum() as i32;
-                moves.push(Move { kind: Kind::Arc { centre, turn }, end, feed, source: format!("rs274: {call}") });
-            }
-            _ => {}
-        }
+#[test]
+fn end_points_agree_within_the_tolerance_beyond_the_printed_rounding() {
+    // ger prints mm to 0.001 (rounding by up to 0.0005), rs274 to 0.0001
+    // (0.00005): 0.002 mm more is allowed, 0.00255 mm in all.
+    let peer = canon(&[
+        "N1     SET_FEED_RATE(100.0000)",
+        "N1     STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+    ]);
+    let at = |x: &str| Moves::from_ger(&format!("G21\nN1 G01 X{x} F100.000\n"));
+    assert!(rs274::compare(&at("1.002"), &peer, TOLERANCE_MM).is_ok());
+    assert!(rs274::compare(&at("0.998"), &peer, TOLERANCE_MM).is_ok());
+    let disagreement = rs274::compare(&at("1.003"), &peer, TOLERANCE_MM).unwrap_err();
+    assert!(disagreement.what.starts_with("end points differ by 0.0030 mm"), "{disagreement}");
+}
+
+#[test]
+fn a_spline_stands_for_the_moves_ger_made_for_its_lines() {
+    // rs274 prints a G5.2 ... G5.3 spline (lines 3-6) with the line of its G5.3.
+    let peer = canon(&[
+        "N2     STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        "N2     SET_FEED_RATE(100.0000)",
+        "N6     NURBS_FEED(4, ...)",
+        "N7     STRAIGHT_FEED(10.0000, 4.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+    ]);
+    let ger = |lines: &str| Moves::from_ger(&format!("G21\nN2 G00 X1.000\n{lines}N7 G01 X10.000 Y4.000\n"));
+    let spline = "N3 G01 X5.000 Y5.000 F100.000\nN4 G03 X6.000 Y3.000 I3.000 J-3.000\n";
+    assert_eq!(rs274::compare(&ger(spline), &peer, TOLERANCE_MM).unwrap().moves, 3);
+    let none = rs274::compare(&ger("N5 F100.000\n"), &peer, TOLERANCE_MM).unwrap_err();
+    assert_eq!(none.what, "rs274 runs a spline where ger does not");
+    let slow = rs274::compare(&ger("N3 G01 X5.000 Y5.000 F90.000\n"), &peer, TOLERANCE_MM).unwrap_err();
+    assert!(slow.what.starts_with("feeds differ along a spline"), "{slow}");
+}
+
+#[test]
+fn every_line_is_numbered_for_rs274() {
+    let program = b"%\nG21\n  /G0 X1\nN0010 G1 X2 F5\nn 20.5 X3\n\n(comment)\r\nM2\n%\n";
+    let expected = "%\nG20\nN2 G21\n  /N3 G0 X1\nN4 G1 X2 F5\nN5 X3\n\nN7 (comment)\r\nN8 M2\n%\n";
+    assert_eq!(String::from_utf8(rs274::numbered(program, "G20")).unwrap(), expected);
+    // Without an opening %, the first line goes first.
+    assert_eq!(String::from_utf8(rs274::numbered(b"\nG0 X1\nM2", "G21")).unwrap(), "G21\n\nN2 G0 X1\nN3 M2");
+}
+
+/// Through rs274 itself: with offsets, a rotated frame and inches, a G53
+/// move still ends at the machine coordinates it names.
+#[test]
+fn rs274_g53_moves_end_at_their_machine_coordinates() {
+    if rs274_missing() {
+        return;
     }
-    moves
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("g53.ngc");
+    std::fs::write(
+        &program,
+        "G20 G90\nG10 L2 P1 X1 Y2 Z-1 R30\nG54\nG0 X1 Y1\nG92 X0 Y0 Z0\nG53 G0 X0.5 Y-1 Z-2\nG21\n\
+         G53 G1 X10 Y20 Z-30 F100\nG91 G28 Z0\nM2\n",
+    )
+    .unwrap();
+    let moves = rs274::moves(&program, &Machine { g28: [0.0, 0.0, 7.0], ..Machine::default() }, TIME_LIMIT).unwrap();
+    let got = ends(&moves);
+    // The G54 move's end worked out by hand: (1, 1) turned by 30 degrees, plus the origin.
+    let (sin, cos) = 30f64.to_radians().sin_cos();
+    // Z is not named, so it stays at machine zero.
+    let first = [(1.0 + cos - sin) * 25.4, (2.0 + sin + cos) * 25.4, 0.0];
+    // G28's intermediate point is where the tool is: a move that goes nowhere.
+    let expected = [first, [12.7, -25.4, -50.8], [10.0, 20.0, -30.0], [10.0, 20.0, -30.0], [10.0, 20.0, 7.0]];
+    assert_eq!(got.len(), expected.len(), "{moves:?}");
+    for (g, e) in got.iter().zip(&expected) {
+        // rs274 prints 4 decimals of an inch.
+        assert!(g.iter().zip(e).all(|(a, b)| (a - b).abs() < 0.003), "{got:?} against {expected:?}");
+    }
 }

@@ -21,6 +21,11 @@ mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Duration;
+
+use support::rs274::{self, Machine};
+
+const TIME_LIMIT: Duration = Duration::from_secs(20);
 
 /// Rewrites rs274 does not reject with LinuxCNC's message, and why.
 const NOT_FOR_RS274: &[(&str, &str)] = &[(
@@ -81,7 +86,7 @@ fn ger_rejects_every_program() {
 
 #[test]
 fn rs274_rejects_every_rewrite_with_linuxcncs_message() {
-    if Command::new("rs274").arg("-h").output().is_err() {
+    if !rs274::available() {
         let message = "rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not installed: \
                        the rewrites of LinuxCNC's reject suite were NOT checked against it";
         support::peer_missing(message);
@@ -110,17 +115,13 @@ fn rs274_rejects_every_rewrite_with_linuxcncs_message() {
 
 /// The message rs274 rejects `program` with, or why there is none.
 fn rs274_error(program: &Path) -> Result<String, String> {
-    // rs274 truncates $HOME/.tool.mmap when it starts: a home of its own keeps runs apart.
-    let home = tempfile::tempdir().unwrap();
-    let mut command = Command::new("rs274");
-    command.current_dir(home.path()).env("HOME", home.path());
-    if let Some(table) = tool_table(&program.with_extension("toml")) {
-        std::fs::write(home.path().join("tools.tbl"), table).unwrap();
-        command.args(["-t", "tools.tbl"]);
+    let machine = machine(&program.with_extension("toml"));
+    let output = rs274::run_as_is(program, &machine, TIME_LIMIT);
+    let stderr = output.stderr;
+    if output.timed_out {
+        return Err("rs274 ran for too long".into());
     }
-    let output = command.arg("-g").arg(program).output().map_err(|e| format!("cannot run rs274: {e}"))?;
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if output.status.success() {
+    if output.code == Some(0) {
         return Err(format!("rs274 accepts it:\n{stderr}"));
     }
     let lines: Vec<&str> = stderr.lines().collect();
@@ -130,21 +131,22 @@ fn rs274_error(program: &Path) -> Result<String, String> {
     }
 }
 
-/// The tool table of a ger.toml for rs274, which (with no INI file) reads
-/// diameters in inches: one `T<n> P<n> D<diameter>` line a tool.
-fn tool_table(config: &Path) -> Option<String> {
-    let text = std::fs::read_to_string(config).ok()?;
+/// The machine of a program's ger.toml for rs274: its tools (none without one).
+fn machine(config: &Path) -> Machine {
+    let Ok(text) = std::fs::read_to_string(config) else { return Machine { tools: Vec::new(), ..Machine::default() } };
     let value: toml::Value = toml::from_str(&text).unwrap();
-    let inches_per_unit = match value.get("units").and_then(|u| u.as_str()) {
-        Some("mm") => 1.0 / 25.4,
-        _ => 1.0,
+    let mm_per_unit = match value.get("units").and_then(|u| u.as_str()) {
+        Some("mm") => 1.0,
+        _ => 25.4,
     };
-    let tools = value.get("tools")?.as_array()?;
-    let lines = tools.iter().map(|tool| {
-        let number = tool["number"].as_integer().unwrap();
-        let diameter = &tool["diameter"];
-        let diameter = diameter.as_float().or(diameter.as_integer().map(|d| d as f64)).unwrap() * inches_per_unit;
-        format!("T{number} P{number} D{diameter:.6}\n")
-    });
-    Some(lines.collect())
+    let tools = value.get("tools").and_then(|t| t.as_array()).map_or(&[][..], |t| t.as_slice());
+    let tools = tools
+        .iter()
+        .map(|tool| {
+            let number = tool["number"].as_integer().unwrap() as u32;
+            let diameter = &tool["diameter"];
+            (number, diameter.as_float().or(diameter.as_integer().map(|d| d as f64)).unwrap() * mm_per_unit)
+        })
+        .collect();
+    Machine { tools, ..Machine::default() }
 }

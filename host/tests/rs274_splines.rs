@@ -20,6 +20,11 @@ mod support;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Duration;
+
+use support::rs274::{self, Kind, Machine, Moves};
+
+const TIME_LIMIT: Duration = Duration::from_secs(20);
 
 /// ger's default spline tolerance on a millimetre machine (tests/differential/ger.toml).
 const TOLERANCE_MM: f64 = 0.02;
@@ -38,7 +43,7 @@ struct Piece {
 #[test]
 fn ger_splines_follow_linuxcnc() {
     let preview_works = Command::new(PYTHON).args(["-c", "import gcode"]).output().is_ok_and(|o| o.status.success());
-    if Command::new("rs274").arg("-h").output().is_err() || !preview_works {
+    if !rs274::available() || !preview_works {
         let message = "rs274 and LinuxCNC's gcode module for /usr/bin/python3 (Debian package linuxcnc-uspace) \
                        are not installed: the spline differential test did NOT run";
         support::peer_missing(message);
@@ -55,14 +60,14 @@ fn ger_splines_follow_linuxcnc() {
     let mut failures = Vec::new();
     for program in &programs {
         let scratch = tempfile::tempdir().unwrap();
-        // Both LinuxCNC interpreters read a parameter file, and rs274 writes
-        // its offsets back into it: each gets a fresh, empty one.
+        // LinuxCNC's preview reads a parameter file and writes its offsets
+        // back into it: it gets a fresh, empty one.
         let var = |name: &str| {
             let path = scratch.path().join(name);
             std::fs::write(&path, "").unwrap();
             path
         };
-        let curves = rs274_curves(program, &var("rs274.var"), scratch.path());
+        let curves = rs274_curves(program);
         let expected = curve_lines(program);
         let name = program.file_name().unwrap().to_string_lossy().to_string();
         if curves != expected {
@@ -86,19 +91,11 @@ fn curve_lines(program: &Path) -> usize {
     text.lines().filter(|line| !line.starts_with('(') && line.split_whitespace().any(code)).count()
 }
 
-/// How many curves rs274 draws; it must report nothing else.
-fn rs274_curves(program: &Path, var: &Path, home: &Path) -> usize {
-    // rs274 truncates $HOME/.tool.mmap when it starts: a home of its own keeps runs apart.
-    let output = Command::new("rs274").env("HOME", home).arg("-g").arg("-v").arg(var).arg(program).output().unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    let complaints: Vec<&str> = stdout
-        .lines()
-        .chain(stderr.lines())
-        .filter(|l| !l.contains("N.....") && !l.trim().is_empty() && *l != "executing")
-        .collect();
-    assert!(complaints.is_empty(), "rs274 reported a problem with {}:\n{}", program.display(), complaints.join("\n"));
-    stdout.lines().filter(|l| l.contains("N..... NURBS_FEED(")).count()
+/// How many curves rs274 draws; it must accept the program.
+fn rs274_curves(program: &Path) -> usize {
+    let moves = rs274::moves(program, &Machine::default(), TIME_LIMIT)
+        .unwrap_or_else(|refusal| panic!("rs274 refuses {}: {refusal:?}", program.display()));
+    moves.iter().filter(|m| m.kind == Kind::Spline).count()
 }
 
 /// ger's moves in the XY plane, by the program line they come from.
@@ -118,22 +115,17 @@ fn ger_path(program: &Path, config: &Path) -> BTreeMap<u32, Vec<Piece>> {
         String::from_utf8_lossy(&output.stderr)
     );
     let mut path: BTreeMap<u32, Vec<Piece>> = BTreeMap::new();
-    let mut at = [0.0, 0.0];
-    for line in String::from_utf8(output.stdout).unwrap().lines().filter(|l| l.starts_with('N')) {
-        let mut words = line.split_whitespace();
-        let number: u32 = words.next().unwrap()[1..].parse().unwrap();
-        let words: Vec<(char, f64)> = words.map(|w| (w.chars().next().unwrap(), w[1..].parse().unwrap())).collect();
-        let word = |letter: char| words.iter().find(|(l, _)| *l == letter).map(|(_, v)| *v);
-        let g = match words.first() {
-            Some(('G', g)) if *g <= 3.0 => *g as u32,
+    for m in Moves::from_ger(&String::from_utf8(output.stdout).unwrap()).iter() {
+        let (Some(start), Some(end), Some(line)) = (m.start, m.end, m.line) else { continue };
+        let arc = match m.kind {
+            Kind::Arc { centre, turn } => Some(([centre[0], centre[1]], turn > 0)),
+            Kind::Rapid | Kind::Feed => None,
             _ => continue,
         };
-        let end = [word('X').unwrap_or(at[0]), word('Y').unwrap_or(at[1])];
-        let arc = (g >= 2).then(|| ([at[0] + word('I').unwrap(), at[1] + word('J').unwrap()], g == 3));
-        if end != at {
-            path.entry(number).or_default().push(Piece { start: at, end, arc });
+        let (start, end) = ([start[0], start[1]], [end[0], end[1]]);
+        if end != start {
+            path.entry(line).or_default().push(Piece { start, end, arc });
         }
-        at = end;
     }
     path
 }

@@ -245,11 +245,19 @@ fn the_pocket_example_translated_simulated_edited_and_saved() {
     // The old snapshot's data is gone.
     assert_eq!(server.get(&format!("/api/heights?version={version}")).status, 410);
 
-    // Saved: the file has the text, and our own write is no conflict.
+    // Saved: the file has the text, and our own write is no conflict. It keeps its mode.
+    #[cfg(unix)]
+    let mode = {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(server.file("pocket.ngc"), std::fs::Permissions::from_mode(0o640)).unwrap();
+        || std::fs::metadata(server.file("pocket.ngc")).unwrap().permissions().mode() & 0o7777
+    };
     let answer = server.post("/api/save", &text);
     assert_eq!(answer.status, 200, "{}", answer.error());
     let saved_version = answer.json()["version"].as_u64().unwrap();
     assert_eq!(std::fs::read_to_string(server.file("pocket.ngc")).unwrap(), text);
+    #[cfg(unix)]
+    assert_eq!(mode(), 0o640);
     let saved = server.state_at(saved_version);
     assert_eq!((saved["saved"].as_bool(), saved["conflict"].as_bool()), (Some(true), Some(false)));
     std::thread::sleep(Duration::from_millis(700));
@@ -331,6 +339,14 @@ fn bad_requests_get_their_4xx_and_the_server_carries_on() {
     expect(server.raw("GET /api/state HTTP/1.1\r\nHost: evil.example:80", b""), 403, "Host");
     expect(server.raw(&format!("GET /api/state HTTP/1.1\r\nHost: 127.0.0.1:{}", port + 1), b""), 403, "Host");
     expect(server.raw("GET /api/state HTTP/1.1", b""), 403, "Host");
+    // Two Host headers: which one a proxy on the way read cannot be known.
+    let twice = format!("GET /api/state HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nHost: evil.example");
+    expect(server.raw(&twice, b""), 400, "one Host");
+    // An absolute-form target names the host that counts, whatever the Host header says.
+    let absolute = |host: &str| format!("GET http://{host}/api/state HTTP/1.1\r\nHost: 127.0.0.1:{port}");
+    expect(server.raw(&absolute("evil.example"), b""), 403, "evil.example");
+    expect(server.raw(&absolute(&format!("127.0.0.1:{}", port + 1)), b""), 403, "not 127.0.0.1");
+    assert_eq!(server.raw(&absolute(&format!("localhost:{port}")), b"").status, 200);
     let from = |origin: &str| {
         let head =
             format!("POST /api/source HTTP/1.1\r\nHost: localhost:{port}\r\nOrigin: {origin}\r\nContent-Length: 6\r\n");
@@ -441,4 +457,21 @@ fn a_wizard_changed_on_disk_is_used_at_once() {
     // Back: the call works again.
     std::fs::write(wizards.join("pocket.wasm"), pocket).unwrap();
     server.state_when(|s| s["diagnostics"] == serde_json::json!([]));
+}
+
+#[test]
+fn a_connection_that_never_finishes_its_head_is_closed() {
+    let server = simple();
+    server.state_at(1);
+    let mut stream = TcpStream::connect(("127.0.0.1", server.port)).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    write!(stream, "GET /api/state HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nX-Slow: a", server.port).unwrap();
+    let started = Instant::now();
+    // The server closes it without an answer (a read of 0), well before our own minute is up.
+    let mut bytes = Vec::new();
+    let read = stream.read_to_end(&mut bytes);
+    assert!(read.is_ok(), "not closed by the server: {read:?} after {:?}", started.elapsed());
+    assert!(started.elapsed() >= Duration::from_secs(4), "closed at once, not after its 5 s: {:?}", started.elapsed());
+    // And it still serves others.
+    assert_eq!(server.get("/api/state").status, 200);
 }

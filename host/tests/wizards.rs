@@ -4,6 +4,7 @@
 //! from what each test wizard is written to do, not from recorded output.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use ger::config::Config;
 use ger::emit::Emitter;
@@ -16,14 +17,22 @@ fn repo(path: &str) -> PathBuf {
 
 /// The program's output lines and its diagnostics.
 fn run(dir: &str, config: &Config, program: &str) -> (Vec<String>, Vec<String>) {
-    let mut wizards = WasmWizards::new(&repo(dir), config, Limits::default(), Some(Box::new(|_: &str| {})));
+    run_limited(dir, config, Limits::default(), program)
+}
+
+/// The same, with wizard calls limited by `limits`; each diagnostic with its
+/// help and the calls it ran in.
+fn run_limited(dir: &str, config: &Config, limits: Limits, program: &str) -> (Vec<String>, Vec<String>) {
+    let mut wizards = WasmWizards::new(&repo(dir), config, limits, Some(Box::new(|_: &str| {})));
     let emitter = Emitter::new(4, false);
     let options = Options { config, stage: LAST_STAGE, wizards: &mut wizards };
     let (mut lines, mut diagnostics) = (Vec::new(), Vec::new());
     for event in translate(program.as_bytes(), Library::empty(), options) {
         match event {
             Event::Statement(s) => lines.push(emitter.line(&s)),
-            Event::Diagnostic(d) => diagnostics.push(format!("{d}\n{}", d.help.clone().unwrap_or_default())),
+            Event::Diagnostic(d) => {
+                diagnostics.push(format!("{d}\n{}\n{}", d.help.clone().unwrap_or_default(), d.call_chain().join("\n")))
+            }
         }
     }
     (lines, diagnostics)
@@ -342,4 +351,298 @@ fn watch_translates_again_when_the_program_or_a_wizard_changes() {
     child.wait().unwrap();
     assert!(third.iter().any(|l| l.starts_with("G01 Y")), "{third:?}");
     assert!(!third.contains(&"G00 X13.000 Y0.000".to_string()), "{third:?}");
+}
+
+#[test]
+fn a_wizard_that_logs_too_much_is_stopped_at_its_limit() {
+    // Babble logs 100 lines of 1 MiB: the host would keep them all.
+    let (lines, diagnostics) = run("tests/wizards/guests", &mm(""), "G21 G90 G01 F100\nBabble\nNest 0\n");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:#?}");
+    let diagnostic = &diagnostics[0];
+    assert!(
+        diagnostic.starts_with("2:1: error: wizard `Babble` logged more than 64 KiB and was stopped"),
+        "{diagnostic}"
+    );
+    // What it logged before is shown, each line cut to 200 characters.
+    assert!(diagnostic.contains("its log:\n  babble babble"), "{}", &diagnostic[..diagnostic.len().min(500)]);
+    assert!(diagnostic.len() < 1000, "{} bytes", diagnostic.len());
+    assert_eq!(lines, ["G01 X0.0000 F100.0000"]);
+}
+
+#[test]
+fn a_wizards_long_messages_and_names_are_cut_with_a_note() {
+    let (_, diagnostics) = run("tests/wizards/guests", &mm(""), "Rant 0\nRant 1\nRant 2\n");
+    assert_eq!(diagnostics.len(), 3, "{:#?}", diagnostics.iter().map(|d| d.len()).collect::<Vec<_>>());
+    // A failure's message: 10 MiB of "no", of which the first 1,000 characters are shown.
+    let message =
+        format!("1:1: error: wizard `Rant`: {}... ({} more bytes cut)\n", "no".repeat(500), (10 << 20) - 1000);
+    assert!(diagnostics[0].starts_with(&message), "{}", &diagnostics[0][..2000.min(diagnostics[0].len())]);
+    assert!(diagnostics[0].contains("usage: Rant KIND"), "{}", diagnostics[0]);
+    // A call of a 9 MiB name makes a line longer than the lexer reads; the line is shown cut.
+    let line = format!("`{}... ({} more bytes cut)`", &"Yes".repeat(334)[..1000], (9 << 20) - 1000);
+    let message =
+        format!("2:1: error: wizard `Rant` returned a bad statement (#1, {line}): this line is longer than 1 MiB");
+    assert!(diagnostics[1].starts_with(&message), "{}", &diagnostics[1][..2000.min(diagnostics[1].len())]);
+    // A call of a 99,999-letter name is read, and is no wizard: its name is cut to 64 characters.
+    let name = format!("{}... ({} more bytes cut)", &"Yes".repeat(22)[..64], 99_999 - 64);
+    assert!(diagnostics[2].starts_with(&format!("3:1: error: no wizard named `{name}` in ")), "{}", diagnostics[2]);
+    assert!(diagnostics[2].ends_with("in wizard `Rant` called at line 3"), "{}", diagnostics[2]);
+    for diagnostic in &diagnostics {
+        assert!(diagnostic.len() < 3000, "{} bytes", diagnostic.len());
+    }
+}
+
+#[test]
+fn all_the_calls_of_a_program_share_one_time_limit() {
+    let config = mm("");
+    run("tests/wizards/guests", &config, "Fan 0 0\n"); // built before the clock starts
+                                                       // Spin never returns: each call takes all the time it may.
+    let limits = Limits { time: Duration::from_millis(400), program_time: Duration::from_secs(1), ..Limits::default() };
+    let started = std::time::Instant::now();
+    let (_, diagnostics) = run_limited("tests/wizards/guests", &config, limits.clone(), "Spin\nSpin\nSpin\nSpin\n");
+    let messages: Vec<&str> = diagnostics.iter().map(|d| d.lines().next().unwrap()).collect();
+    assert_eq!(
+        messages,
+        [
+            "1:1: error: wizard `Spin` did not finish within 0.4 s and was stopped",
+            "2:1: error: wizard `Spin` did not finish within 0.4 s and was stopped",
+            "3:1: error: wizard `Spin` was stopped: the wizard calls of this program had run for 1 s, \
+             all the time they have together",
+            "4:1: error: wizard `Spin` was not run: the wizard calls of this program have used all of their 1 s",
+        ]
+    );
+    assert!(diagnostics[3].contains("--wizard-total-time"), "{}", diagnostics[3]);
+    assert!(started.elapsed() < Duration::from_secs(10), "{:?}", started.elapsed());
+
+    // Fan 10 15 makes 10^15 quick calls, nested: they count towards the same limit.
+    let started = std::time::Instant::now();
+    let (lines, diagnostics) = run_limited("tests/wizards/guests", &config, limits.clone(), "G01 F100\nFan 10 15\n");
+    let elapsed = started.elapsed();
+    assert!(!diagnostics.is_empty() && diagnostics.len() <= 15 * 10, "{} diagnostics", diagnostics.len());
+    for diagnostic in &diagnostics {
+        assert!(
+            diagnostic.starts_with("2:1: error: wizard `Fan` was not run: the wizard calls of this program have used")
+                || diagnostic.starts_with("2:1: error: wizard `Fan` was stopped: the wizard calls of this program had"),
+            "{diagnostic}"
+        );
+    }
+    assert!(lines.len() > 15, "{} lines: the calls ran until the limit", lines.len());
+    assert!(elapsed < Duration::from_secs(20), "{elapsed:?}");
+
+    // A new translation has the whole time again.
+    let mut wizards = WasmWizards::new(&repo("tests/wizards/guests"), &config, limits, None);
+    for _ in 0..2 {
+        let options = Options { config: &config, stage: LAST_STAGE, wizards: &mut wizards };
+        let messages: Vec<String> = translate("Spin\n".as_bytes(), Library::empty(), options)
+            .filter_map(|e| if let Event::Diagnostic(d) = e { Some(d.message) } else { None })
+            .collect();
+        assert_eq!(messages, ["wizard `Spin` did not finish within 0.4 s and was stopped"]);
+    }
+}
+
+#[test]
+fn all_the_calls_of_a_program_share_one_statement_limit() {
+    // Fan 10 3: each call returns its move and, above the last level, 10
+    // calls, so 11 statements; the last level's calls return 1. Depth first,
+    // the root and four Fan 10 2 subtrees (221 statements each) return 895;
+    // the fifth Fan 10 2 and four of its Fan 10 1 subtrees (21 each) bring
+    // that to 990, and its fifth Fan 10 1 would make it 1001. That call and
+    // every one after it (five Fan 10 1, five Fan 10 2) fail.
+    let limits = Limits { program_statements: 1000, ..Limits::default() };
+    let (lines, diagnostics) =
+        run_limited("tests/wizards/guests", &mm(""), limits, "G21 G90 G01 F100\nFan 10 3\nM30\n");
+    let message = "2:1: error: wizard `Fan` returned 11 statements, which takes the wizard calls of this program \
+                   past the 1000 statements they may return together";
+    assert_eq!(diagnostics.len(), 11, "{diagnostics:#?}");
+    assert!(diagnostics.iter().all(|d| d.starts_with(message)), "{diagnostics:#?}");
+    // The calls that ran: the root, 4 x (1 + 10 x 11), then 1 + 4 x 11, each one move.
+    assert_eq!(lines.iter().filter(|l| l.starts_with("G01 X")).count(), 1 + 4 * 111 + 1 + 4 * 11);
+}
+
+#[test]
+fn m99_and_o_in_a_wizards_output_are_errors_at_the_call() {
+    // On Fanuc or Haas an M99 in the main program rewinds and runs it again.
+    let (lines, diagnostics) = run("tests/wizards/guests", &mm(""), "G21 G90 G01 F100\nRewind 0\nRewind 1\nX9\nM30\n");
+    assert_eq!(diagnostics.len(), 2, "{diagnostics:#?}");
+    assert!(diagnostics[0].starts_with("2:1: error: M99 in the output of wizard `Rewind`\n"), "{}", diagnostics[0]);
+    assert!(
+        diagnostics[0].contains("Fanuc or Haas") && diagnostics[0].ends_with("in wizard `Rewind` called at line 2")
+    );
+    assert!(
+        diagnostics[1]
+            .starts_with("3:1: error: O100 in the output of wizard `Rewind`: a wizard cannot define a subprogram\n"),
+        "{}",
+        diagnostics[1]
+    );
+    // What came before the M99 ran; the rest of each call's output (X2; X3,
+    // M99 and M98 P100) is dropped, and the program goes on.
+    assert_eq!(lines, ["G01 X1.0000 F100.0000", "G01 X9.0000", "M30"]);
+}
+
+#[test]
+fn a_wizards_random_numbers_depend_only_on_the_call() {
+    // O1 runs twice from the same place: the same call, with the same state.
+    let program = "O1000\nO1\nG00 X0 Y0\nRandom\nM99\nG21 G90 G01 F100\nM98 P1 L2\nG00 X5\nRandom\nM30\n";
+    // Where each of Random's moves went: X from its hash map's keys, Y from wasi:random.
+    let targets = |lines: Vec<String>| -> Vec<(String, String)> {
+        let word = |line: &str, axis: char| line.split(' ').find(|w| w.starts_with(axis)).unwrap().to_string();
+        lines.iter().filter(|l| l.starts_with("G01")).map(|l| (word(l, 'X'), word(l, 'Y'))).collect()
+    };
+    let (first, diagnostics) = run("tests/wizards/guests", &mm(""), program);
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let first = targets(first);
+    assert_eq!(first.len(), 3, "{first:?}");
+    assert_eq!(first[0], first[1], "the same call twice");
+    // Another state is another call: other numbers.
+    assert!(first[0].0 != first[2].0 && first[0].1 != first[2].1, "{first:?}");
+    // A second run (a new runtime) gives the same numbers.
+    let (second, _) = run("tests/wizards/guests", &mm(""), program);
+    assert_eq!(targets(second), first);
+}
+
+#[test]
+fn the_total_time_is_an_option() {
+    let target = repo("tests/wizards/guests/target/cargo");
+    run("tests/wizards/guests", &mm(""), "Spin\n");
+    let wizards = repo("tests/wizards/guests");
+    let args =
+        ["run", "--wizard-time", "0.3", "--wizard-total-time", "0.5", "--wizards", wizards.to_str().unwrap(), "-"];
+    let (_, err, status) = ger(&args, "Spin\nSpin\nSpin\n", &target);
+    assert_eq!(status, 1);
+    assert!(err.contains("error: wizard `Spin` did not finish within 0.3 s"), "{err}");
+    assert!(
+        err.contains("error: wizard `Spin` was stopped: the wizard calls of this program had run for 0.5 s"),
+        "{err}"
+    );
+    assert!(err.contains("error: wizard `Spin` was not run"), "{err}");
+}
+
+/// `ger run` of `program` with the wizards in `wizards` and the cache key
+/// under `cache_home` (as `XDG_CACHE_HOME`).
+fn ger_cached(wizards: &Path, cache_home: &Path, program: &str) -> (String, String, i32) {
+    use std::io::Write;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["run", "--units", "mm", "--no-line-numbers", "--no-build", "--wizards"])
+        .arg(wizards)
+        .arg("-")
+        .env("NO_COLOR", "1")
+        .env("XDG_CACHE_HOME", cache_home)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(program.as_bytes()).unwrap();
+    let output = child.wait_with_output().unwrap();
+    let text = |b: Vec<u8>| String::from_utf8_lossy(&b).into_owned();
+    // A signal (SIGILL from bad native code) has no exit code.
+    (text(output.stdout), text(output.stderr), output.status.code().unwrap_or(-1))
+}
+
+/// The bytes of section `name` of the ELF file inside `bytes` (a compiled component).
+fn elf_section(bytes: &[u8], name: &str) -> std::ops::Range<usize> {
+    let start = bytes.windows(4).position(|w| w == b"\x7fELF").expect("an ELF file");
+    let elf = &bytes[start..];
+    let at = |offset: usize, size: usize| {
+        elf[offset..offset + size].iter().rev().fold(0usize, |n, &b| n << 8 | usize::from(b))
+        // little-endian
+    };
+    let (table, entry_size, count, names) = (at(0x28, 8), at(0x3a, 2), at(0x3c, 2), at(0x3e, 2));
+    let header = |i: usize| table + i * entry_size;
+    let strings = at(header(names) + 0x18, 8);
+    (0..count)
+        .find_map(|i| {
+            let text = &elf[strings + at(header(i), 4)..];
+            let found = &text[..text.iter().position(|&b| b == 0)?];
+            let offset = start + at(header(i) + 0x18, 8);
+            (found == name.as_bytes()).then(|| offset..offset + at(header(i) + 0x20, 8))
+        })
+        .expect("the section")
+}
+
+#[cfg(unix)]
+#[test]
+fn the_compile_cache_runs_only_what_this_users_ger_compiled_from_that_wasm() {
+    use std::os::unix::fs::MetadataExt;
+    run("tests/wizards/guests", &mm(""), "Nest 0\nEcho\n"); // built if need be
+    let temp = tempfile::tempdir().unwrap();
+    let wizards = temp.path().join("wizards");
+    std::fs::create_dir(&wizards).unwrap();
+    for name in ["nest.wasm", "echo.wasm"] {
+        std::fs::copy(repo("tests/wizards/guests").join(name), wizards.join(name)).unwrap();
+    }
+    let (key_a, key_b) = (temp.path().join("a"), temp.path().join("b"));
+    let cache = wizards.join("target/ger/cache");
+    let entries = || -> Vec<PathBuf> {
+        let Ok(read) = std::fs::read_dir(&cache) else { return Vec::new() };
+        read.map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "cwasm")).collect()
+    };
+    let program = "G21 G90 G01 F100\nNest 1\nM30\n";
+    // Nest 1 moves to X1, then X0, and nothing else does.
+    let nest_ran = |key: &Path| {
+        let (out, err, status) = ger_cached(&wizards, key, program);
+        assert_eq!(status, 0, "{err}");
+        let moves: Vec<&str> = out.lines().filter(|l| l.starts_with("G01 X")).collect();
+        assert_eq!(moves.len(), 2, "{out}");
+        assert!(moves[0].starts_with("G01 X1.000") && moves[1] == "G01 X0.000", "{out}");
+    };
+    let inode = |path: &Path| std::fs::metadata(path).unwrap().ino();
+
+    nest_ran(&key_a);
+    let [nest] = &entries()[..] else { panic!("{:?}", entries()) };
+    let nest = nest.clone();
+    let (_, err, _) = ger_cached(&wizards, &key_a, "Echo\n");
+    assert!(err.contains("error: wizard `Echo`: State {"), "{err}");
+    let echo = entries().into_iter().find(|p| *p != nest).expect("Echo's entry");
+    // A good entry is used as it is: not written again.
+    let good = inode(&nest);
+    nest_ran(&key_a);
+    assert_eq!(inode(&nest), good);
+
+    // Each bad entry is compiled again and overwritten; the new one is then used.
+    let compiled_again = |bad: &[u8], key: &Path| {
+        std::fs::write(&nest, bad).unwrap();
+        nest_ran(key);
+        assert_ne!(std::fs::read(&nest).unwrap(), bad);
+        let rewritten = inode(&nest);
+        nest_ran(key);
+        assert_eq!(inode(&nest), rewritten, "the new entry verifies");
+    };
+    let entry = std::fs::read(&nest).unwrap();
+    // Another wizard's entry under this one's name (it would run as Echo).
+    compiled_again(&std::fs::read(&echo).unwrap(), &key_a);
+    // Native code changed: its code section filled with ud2 (it would crash with SIGILL).
+    let mut changed = entry.clone();
+    let text = elf_section(&changed, ".text");
+    for (i, byte) in changed[text].iter_mut().enumerate() {
+        *byte = [0x0f, 0x0b][i % 2];
+    }
+    compiled_again(&changed, &key_a);
+    // Cut short: to half, and to less than a signature.
+    compiled_again(&entry[..entry.len() / 2], &key_a);
+    compiled_again(&entry[..10], &key_a);
+    // Signed with another user's key.
+    compiled_again(&entry, &key_b);
+
+    // A link to a file elsewhere is replaced, not written through; a FIFO (which
+    // would block a reader for ever) is replaced too.
+    let outside = temp.path().join("outside");
+    std::fs::write(&outside, "not ger's").unwrap();
+    std::fs::remove_file(&nest).unwrap();
+    std::os::unix::fs::symlink(&outside, &nest).unwrap();
+    nest_ran(&key_a);
+    assert_eq!(std::fs::read_to_string(&outside).unwrap(), "not ger's");
+    assert!(std::fs::symlink_metadata(&nest).unwrap().is_file());
+    std::fs::remove_file(&nest).unwrap();
+    let made = std::process::Command::new("mkfifo").arg(&nest).status().unwrap();
+    assert!(made.success());
+    nest_ran(&key_a);
+    assert!(std::fs::symlink_metadata(&nest).unwrap().is_file());
+
+    // Where no key can be made (its folder would be under a file), nothing is cached.
+    std::fs::remove_dir_all(&cache).unwrap();
+    let blocked = temp.path().join("file");
+    std::fs::write(&blocked, "").unwrap();
+    nest_ran(&blocked);
+    assert!(entries().is_empty(), "{:?}", entries());
 }

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 
-use super::render::{bounds, input_size, simulation, usage_error, walk_events, Progress};
+use super::render::{bounds, input_size, memory_limit, resolution, simulation, walk_events, Progress};
 use super::report::{plain_error, Report};
 use super::{load_config, styled, CommonArgs, Input};
 use crate::check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
@@ -46,10 +46,10 @@ pub(crate) struct CheckArgs {
     allow: Vec<Rule>,
     /// The side of a simulation cell, in machine units [default: the
     /// config's scale, or 1/1000 of the stock's longer side].
-    #[arg(long, value_name = "LENGTH", value_parser = positive)]
+    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
     resolution: Option<f64>,
     /// MiB the simulation's height field may take [default: the config's, or 2048].
-    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
     memory_limit: Option<u64>,
     /// No progress bar.
     #[arg(short, long)]
@@ -61,13 +61,6 @@ fn rule(text: &str) -> Result<Rule, String> {
         let names: Vec<&str> = Rule::ALL.iter().map(|r| r.name()).collect();
         format!("not a check; the checks are {}", names.join(", "))
     })
-}
-
-fn positive(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
-        _ => Err("expected a length above zero".to_string()),
-    }
 }
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
@@ -83,7 +76,7 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
     };
     let sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
         Ok(sim) => sim,
-        Err(message) => return usage_error(&message),
+        Err(refused) => return refused.exit(&args.common, &input),
     };
     let mut checker = Checker::new(&config, sim, &args.allow);
     let mut progress = Progress::new(input_size(&input), "checking", quiet);

@@ -8,15 +8,17 @@ mod view;
 mod wizard;
 
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, IsTerminal, Read, Seek, Write};
+use std::io::{self, BufRead, BufReader, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::config::{Config, DialectConfig};
+use crate::config::{locate, Config, DialectConfig, Step};
+use crate::diag::Diagnostic;
 use crate::emit::{preamble, Emitter};
 use crate::expand::{Limits, WasmWizards, Wizards};
 use crate::lex::{Lexed, Lexer, TokenKind};
+use crate::output::OutputFile;
 use crate::parse::parse;
 use crate::passes::{self, translate, Event, Library, Options, LAST_STAGE};
 use crate::statement::{Dialect, Units};
@@ -89,6 +91,9 @@ pub(crate) struct WizardOptions {
     /// Seconds one wizard call may run.
     #[arg(long, value_name = "SECONDS", default_value_t = 1.0, value_parser = positive_seconds)]
     pub wizard_time: f64,
+    /// Seconds all the wizard calls of one program (nested ones too) may run together.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0, value_parser = positive_seconds)]
+    pub wizard_total_time: f64,
     /// MiB of memory one wizard call may use.
     #[arg(long, value_name = "MIB", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub wizard_memory: u32,
@@ -96,8 +101,9 @@ pub(crate) struct WizardOptions {
 
 fn positive_seconds(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
-        Ok(s) if s > 0.0 && s <= 3600.0 => Ok(s),
-        _ => Err("expected a number of seconds above 0 and at most 3600".to_string()),
+        // Below a millisecond no call could run at all.
+        Ok(s) if (0.001..=3600.0).contains(&s) => Ok(s),
+        _ => Err("expected a number of seconds from 0.001 to 3600".to_string()),
     }
 }
 
@@ -106,6 +112,7 @@ impl WizardOptions {
     pub fn runtime(&self, config: &Config) -> WasmWizards {
         let limits = Limits {
             time: std::time::Duration::from_secs_f64(self.wizard_time),
+            program_time: std::time::Duration::from_secs_f64(self.wizard_total_time),
             memory: (self.wizard_memory as usize) << 20,
             ..Limits::default()
         };
@@ -118,7 +125,7 @@ impl WizardOptions {
 struct RunArgs {
     #[command(flatten)]
     common: CommonArgs,
-    /// Write the translation here instead of standard output.
+    /// Write the translation here instead of standard output (`-`).
     #[arg(short, long, value_name = "OUT")]
     output: Option<PathBuf>,
     /// Stop after this pass: 0 subprograms, 1 units, 2 offsets, 3 polar,
@@ -212,7 +219,10 @@ impl Input {
 
     fn dir(&self) -> PathBuf {
         match self {
-            Input::File(path) => path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+            Input::File(path) => match path.parent() {
+                Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+                _ => PathBuf::from("."),
+            },
             Input::Stdin(_) => PathBuf::from("."),
             Input::Text { dir, .. } => dir.clone(),
         }
@@ -236,25 +246,38 @@ impl BufRead for FailingReader {
     fn consume(&mut self, _: usize) {}
 }
 
+/// The config file: `args.config`, or `ger.toml` beside the program if there is one.
+fn config_path(args: &CommonArgs, input: &Input) -> Option<PathBuf> {
+    match &args.config {
+        Some(path) => Some(path.clone()),
+        None => Some(input.dir().join("ger.toml")).filter(|p| p.is_file()),
+    }
+}
+
+/// A config's error, rendered as rustc would (with colour when `styled`).
+fn config_diagnostic(name: &str, text: &str, diagnostic: Diagnostic, styled: bool) -> String {
+    let mut report = Report::default();
+    report.add(diagnostic);
+    report.render(name, text.as_bytes(), styled).replace("could not translate the program", "bad configuration")
+}
+
+/// A value of the config file that cannot be used, shown at the key `steps` lead to.
+fn config_error(args: &CommonArgs, input: &Input, steps: &[Step], message: &str) -> String {
+    let Some(path) = config_path(args, input) else { return plain_error(message, None) };
+    // Read again, as a program's lines are to quote them: the config keeps no text.
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    config_diagnostic(&path.display().to_string(), &text, Diagnostic::error(locate(&text, steps), message), styled())
+}
+
 /// The machine: `args.config`, or `ger.toml` beside the program. A bad one is
 /// an error rendered as rustc would (with colour when `styled`).
 fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config, String> {
-    let path = match &args.config {
-        Some(path) => Some(path.clone()),
-        None => Some(input.dir().join("ger.toml")).filter(|p| p.is_file()),
-    };
-    let mut config = match path {
+    let mut config = match config_path(args, input) {
         None => Config::default(),
         Some(path) => {
             let name = path.display().to_string();
             let text = std::fs::read_to_string(&path).map_err(|err| read_error(&name, &err))?;
-            Config::from_toml(&text).map_err(|diagnostic| {
-                let mut report = Report::default();
-                report.add(diagnostic);
-                report
-                    .render(&name, text.as_bytes(), styled)
-                    .replace("could not translate the program", "bad configuration")
-            })?
+            Config::from_toml(&text).map_err(|diagnostic| config_diagnostic(&name, &text, diagnostic, styled))?
         }
     };
     if args.lenient {
@@ -272,8 +295,46 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
 /// The subprograms of `input`, found by reading it again when a call names
 /// one not seen yet; and the program itself again, for M47.
 fn library<'a>(input: &'a Input, dialect: &'a DialectConfig) -> Library<'a> {
-    Library::scanning(move || Library::scan(input.open(), dialect))
-        .with_restart(move || Box::new(passes::parse(input.open(), dialect)))
+    let library = Library::scanning(move || Library::scan(input.open(), dialect))
+        .with_restart(move || Box::new(passes::parse(input.open(), dialect)));
+    match dialect.name {
+        Dialect::Lenient => library.with_files(move |number| program_file(&input.dir(), number, dialect)),
+        Dialect::Strict => library,
+    }
+}
+
+/// A program kept in a file of its own beside the calling one, as a Fanuc or
+/// Haas keeps programs by number: a G-code file whose name holds the number
+/// (`O1002.nc`, `o01002.tap`, `bracket_o1002.cnc`) and whose first O word is it.
+fn program_file(dir: &Path, number: u32, dialect: &DialectConfig) -> Option<(String, passes::Body)> {
+    const EXTENSIONS: [&str; 7] = ["nc", "ngc", "tap", "cnc", "gcode", "txt", ""];
+    let mut candidates: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| {
+            let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            path.is_file() && EXTENSIONS.contains(&extension.as_str()) && names_program(stem, number)
+        })
+        .collect();
+    candidates.sort();
+    candidates.into_iter().find_map(|path| {
+        let file = File::open(&path).ok()?;
+        let body = Library::scan_file(BufReader::new(file), number, dialect)?;
+        Some((path.file_name()?.to_string_lossy().into_owned(), body))
+    })
+}
+
+/// Whether a file's name ends with program `number`: `O1002`, `1002`,
+/// `O01002`, `part-o1002`.
+fn names_program(stem: &str, number: u32) -> bool {
+    let stem = stem.to_ascii_lowercase();
+    let digits = stem.len() - stem.trim_end_matches(|c: char| c.is_ascii_digit()).len();
+    let (head, tail) = stem.split_at(stem.len() - digits);
+    let head = head.strip_suffix('o').unwrap_or(head);
+    digits > 0
+        && tail.parse::<u32>() == Ok(number)
+        && (head.is_empty() || !head.ends_with(|c: char| c.is_ascii_alphanumeric()))
 }
 
 pub(crate) fn styled() -> bool {
@@ -327,43 +388,27 @@ fn run(args: &RunArgs) -> Result<i32, String> {
 fn run_once(args: &RunArgs, input: &Input) -> Result<i32, String> {
     let config = load_config(&args.common, input, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
-    // Write to a temporary file first: a failed run leaves no half-written output.
-    let dir = args.output.as_ref().and_then(|p| p.parent()).filter(|d| !d.as_os_str().is_empty());
-    let temp = match dir {
-        Some(dir) => tempfile::NamedTempFile::new_in(dir),
-        None if args.output.is_some() => tempfile::NamedTempFile::new_in("."),
-        None => tempfile::NamedTempFile::new(),
-    }
-    .map_err(|err| plain_error(&format!("cannot create the output file: {err}"), None))?;
-    let mut writer = io::BufWriter::with_capacity(1 << 16, temp);
-    let write_failed = |err: io::Error| plain_error(&format!("cannot write the output: {err}"), None);
-    writer.write_all(preamble(&input.name(), config.units).as_bytes()).map_err(write_failed)?;
+    // Withheld: a failed run leaves no half-written output, and writes nothing to a terminal or pipe.
+    let path = args.output.as_deref().unwrap_or(Path::new("-"));
+    let mut output = OutputFile::withheld(path).map_err(|err| cannot_write(path, &err))?;
+    let write_failed = |err: io::Error| cannot_write(path, &err);
+    output.write_all(preamble(&input.name(), config.units).as_bytes()).map_err(write_failed)?;
     let report = translate_into(input, &config, args.stage, !args.no_line_numbers, &mut wizards, |line| {
-        writer.write_all(line.as_bytes())
+        output.write_all(line.as_bytes())
     })
     .map_err(write_failed)?;
     show(&report, input);
     if report.errors() > 0 {
         return Ok(1);
     }
-    let temp = writer.into_inner().map_err(|err| write_failed(err.into_error()))?;
-    match &args.output {
-        Some(path) => {
-            temp.persist(path)
-                .map_err(|err| plain_error(&format!("cannot write {}: {}", path.display(), err.error), None))?;
-        }
-        None => {
-            let mut file = temp.reopen().map_err(write_failed)?;
-            file.rewind().map_err(write_failed)?;
-            let stdout = io::stdout();
-            let mut out = stdout.lock();
-            io::copy(&mut file, &mut out)
-                .and_then(|_| out.flush())
-                .or_else(ignore_broken_pipe)
-                .map_err(write_failed)?;
-        }
-    }
+    output.commit().map_err(write_failed)?;
     Ok(0)
+}
+
+/// The error for an output that cannot be written: `-` is standard output.
+pub(crate) fn cannot_write(path: &Path, err: &io::Error) -> String {
+    let name = if path == Path::new("-") { "standard output".to_string() } else { path.display().to_string() };
+    plain_error(&format!("cannot write {name}: {err}"), None)
 }
 
 /// `ger run x | head` is not an error.

@@ -3,7 +3,7 @@
 //! statements are used as they come and never collected.
 
 use std::io::{self, BufRead, IsTerminal, Read, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -12,14 +12,15 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::report::{plain_error, Report};
-use super::{library, load_config, show, styled, CommonArgs, Input};
-use crate::config::Config;
+use super::{cannot_write, config_error, library, load_config, show, styled, CommonArgs, Input};
+use crate::config::{quoted, Bounds, Config, Step, MAX_MEMORY_MIB};
 use crate::expand::Wizards;
+use crate::output::OutputFile;
 use crate::passes::{translate, Event, Options, LAST_STAGE};
 use crate::pulses::Pulser;
-use crate::render::{mesh::Mesh, top, view};
-use crate::sim::{CutBounds, Point, Simulation, Stock, Tracker};
-use crate::statement::Statement;
+use crate::render::{label, mesh::Mesh, top, view};
+use crate::sim::{CutBounds, Point, Refusal, Simulation, Stock, Tracker};
+use crate::statement::{Statement, Units};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Format {
@@ -37,7 +38,7 @@ pub(crate) enum Format {
 pub(crate) struct RenderArgs {
     #[command(flatten)]
     common: CommonArgs,
-    /// Where to write the picture or mesh.
+    /// Where to write the picture or mesh (`-`: standard output, with --format).
     #[arg(short, long, value_name = "OUT")]
     output: PathBuf,
     /// What to write [default: by OUT's extension: .stl a mesh, .png a 2D
@@ -52,13 +53,13 @@ pub(crate) struct RenderArgs {
     with_toolpath: bool,
     /// The side of a simulation cell, in machine units [default: the config's
     /// scale, or 1/1000 of the stock's longer side].
-    #[arg(long, value_name = "LENGTH", value_parser = positive)]
+    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
     resolution: Option<f64>,
     /// A named 3D view: iso, top, bottom, front, back, right, left [default: iso].
     #[arg(long, value_parser = view_name)]
     view: Option<String>,
     /// Degrees about Z the 3D view looks from: 0 front, 90 right [default: 45].
-    #[arg(long, value_name = "DEGREES", value_parser = finite, allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEGREES", value_parser = azimuth, allow_negative_numbers = true)]
     azimuth: Option<f64>,
     /// Degrees above the XY plane the 3D view looks from, -90 to 90 [default: 35.3].
     #[arg(long, value_name = "DEGREES", value_parser = elevation, allow_negative_numbers = true)]
@@ -70,7 +71,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "WxH", default_value = "1024x768", value_parser = size)]
     size: (u32, u32),
     /// MiB the height field may take [default: the config's, or 2048].
-    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
     memory_limit: Option<u64>,
     /// No progress bar.
     #[arg(short, long)]
@@ -82,33 +83,48 @@ pub(crate) struct PulsesArgs {
     #[command(flatten)]
     common: CommonArgs,
     /// Motor steps per machine unit [default: 1000 per inch, 40 per mm].
-    #[arg(long, value_name = "N", value_parser = positive)]
+    #[arg(long, value_name = "N", value_parser = steps_per_unit)]
     steps_per_unit: Option<f64>,
     /// Show only the first N ticks.
     #[arg(long, value_name = "N")]
     limit: Option<u64>,
 }
 
-pub(super) fn positive(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
-        _ => Err("expected a number above zero".to_string()),
-    }
+/// A number from `low` to `high`, or what to write instead.
+fn within(text: &str, low: f64, high: f64, what: &str) -> Result<f64, String> {
+    text.parse::<f64>().ok().filter(|x| (low..=high).contains(x)).ok_or_else(|| format!("expected {what}"))
 }
 
-fn finite(text: &str) -> Result<f64, String> {
-    text.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| "expected a number of degrees".to_string())
+/// A cell's side: within the bounds of a machine in either unit (`simulation`
+/// then holds it to the machine's own unit).
+pub(super) fn resolution(text: &str) -> Result<f64, String> {
+    let (inch, mm) = (Bounds::of(Units::Inch), Bounds::of(Units::Mm));
+    let (low, high) = (inch.smallest, mm.length);
+    within(text, low, high, &format!("a length from {} to {} (in the machine's unit)", quoted(low), quoted(high)))
+}
+
+fn steps_per_unit(text: &str) -> Result<f64, String> {
+    within(text, 0.001, 1_000_000.0, "a number of steps from 0.001 to 1000000")
+}
+
+/// `--memory-limit`: MiB, as `[render] memory_limit_mb`.
+pub(super) fn memory_limit(text: &str) -> Result<u64, String> {
+    text.parse::<u64>()
+        .ok()
+        .filter(|m| (1..=MAX_MEMORY_MIB).contains(m))
+        .ok_or_else(|| format!("expected a number of MiB from 1 to {MAX_MEMORY_MIB} (1 TiB)"))
+}
+
+fn azimuth(text: &str) -> Result<f64, String> {
+    within(text, -360.0, 360.0, "degrees from -360 to 360")
 }
 
 fn elevation(text: &str) -> Result<f64, String> {
-    finite(text)
-        .ok()
-        .filter(|x| (-90.0..=90.0).contains(x))
-        .ok_or_else(|| "expected degrees from -90 to 90".to_string())
+    within(text, -90.0, 90.0, "degrees from -90 to 90")
 }
 
 fn zoom(text: &str) -> Result<f64, String> {
-    positive(text).ok().filter(|z| *z <= 1000.0).ok_or_else(|| "expected a zoom above 0 and at most 1000".to_string())
+    within(text, 0.01, 1000.0, "a zoom from 0.01 to 1000")
 }
 
 fn view_name(text: &str) -> Result<String, String> {
@@ -264,6 +280,34 @@ pub(super) fn bounds(
     (report, bounds, path_box)
 }
 
+/// Why no simulation could be made: the message, and whose number asked for it.
+pub(super) struct Refused {
+    pub message: String,
+    by: Culprit,
+}
+
+enum Culprit {
+    CommandLine,
+    /// A key of the config's `[render]` table.
+    Config(&'static str),
+    /// The program, or the machine: no number anyone gave.
+    Neither,
+}
+
+impl Refused {
+    /// The exit: a command line's number is a usage error (2); the config's is
+    /// shown at its key, and anything else as an error (1).
+    pub(super) fn exit(self, common: &CommonArgs, input: &Input) -> Result<i32, String> {
+        match self.by {
+            Culprit::CommandLine => usage_error(&self.message),
+            Culprit::Config(key) => {
+                Err(config_error(common, input, &[Step::Key("render"), Step::Key(key)], &self.message))
+            }
+            Culprit::Neither => Err(plain_error(&self.message, None)),
+        }
+    }
+}
+
 /// The simulation at the resolution asked for (or the config's, or the
 /// default), unless it would not fit in memory: then the message says what would.
 pub(super) fn simulation(
@@ -271,21 +315,74 @@ pub(super) fn simulation(
     resolution: Option<f64>,
     memory_limit: Option<u64>,
     config: &Config,
-) -> Result<Simulation, String> {
+) -> Result<Simulation, Refused> {
+    let unit = config.units.abbreviation();
+    let bounds = Bounds::of(config.units);
+    let refuse = |by, message| Err(Refused { message, by });
+    if resolution.is_some_and(|cell| !(bounds.smallest..=bounds.length).contains(&cell)) {
+        let message =
+            format!("--resolution must be from {} to {} {unit}", quoted(bounds.smallest), quoted(bounds.length));
+        return refuse(Culprit::CommandLine, message);
+    }
+    let size = stock.size();
+    // A stock by margin is where the program goes: its coordinates may be anything.
+    if !size.iter().all(|s| *s <= bounds.length) {
+        let message = format!(
+            "the stock would be {} x {} x {} {unit}, everything the program cuts with a margin of {} {unit} all \
+             round: over {} {unit}, more than any machine travels; check the program's coordinates, or give \
+             [stock] size in ger.toml",
+            label(size[0]),
+            label(size[1]),
+            label(size[2]),
+            label(config.stock_margin()),
+            label(bounds.length),
+        );
+        return refuse(Culprit::Neither, message);
+    }
     let cell = resolution.or(config.render.scale.map(|s| 1.0 / s)).unwrap_or(stock.default_cell());
+    // Bounded by the command line's parser and the config's validation: no overflow.
     let limit = memory_limit.or(config.render.memory_limit_mb).unwrap_or(2048) << 20;
-    Simulation::new(stock, cell, limit).map_err(|too_big| {
-        let unit = config.units.abbreviation();
-        format!(
-            "a resolution of {} {unit} needs {} MiB for the {} x {} {unit} stock, over the limit of {} MiB; \
-             the finest that fits is --resolution {} (or raise --memory-limit)",
-            crate::render::label(cell),
-            too_big.needed >> 20,
-            crate::render::label(stock.size()[0]),
-            crate::render::label(stock.size()[1]),
-            too_big.limit >> 20,
-            round_up(too_big.finest),
-        )
+    Simulation::new(stock, cell, limit).map_err(|refusal| match refusal {
+        Refusal::TooBig(too_big) => {
+            let by = if resolution.is_some() || memory_limit.is_some() {
+                Culprit::CommandLine
+            } else if config.render.scale.is_some() {
+                Culprit::Config("scale")
+            } else if config.render.memory_limit_mb.is_some() {
+                Culprit::Config("memory_limit_mb")
+            } else {
+                Culprit::Neither
+            };
+            let fits = match by {
+                Culprit::Config(_) => format!(
+                    "the most that fits is scale = {} (or raise memory_limit_mb)",
+                    // Cells per unit, rounded down so that it does fit.
+                    three_digits(1.0 / too_big.finest, f64::floor)
+                ),
+                _ => format!(
+                    "the finest that fits is --resolution {} (or raise --memory-limit)",
+                    round_up(too_big.finest)
+                ),
+            };
+            let message = format!(
+                "a resolution of {} {unit} needs {} MiB for the {} x {} {unit} stock, over the limit of {} MiB; {fits}",
+                label(cell),
+                too_big.needed >> 20,
+                label(size[0]),
+                label(size[1]),
+                too_big.limit >> 20,
+            );
+            Refused { message, by }
+        }
+        Refusal::OutOfMemory { needed } => Refused {
+            message: format!(
+                "cannot have the {} MiB the height field needs at a resolution of {} {unit}: the system refused \
+                 it; give a coarser --resolution or a lower --memory-limit",
+                needed >> 20,
+                label(cell)
+            ),
+            by: Culprit::Neither,
+        },
     })
 }
 
@@ -297,24 +394,9 @@ pub(super) fn input_size(input: &Input) -> u64 {
     }
 }
 
-/// Writes `out` through a temporary file beside `path`, so a failure leaves nothing half-written.
-fn write_atomically(path: &PathBuf, out: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), String> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).map_or_else(|| PathBuf::from("."), PathBuf::from);
-    let failed = |err: io::Error| plain_error(&format!("cannot write {}: {err}", path.display()), None);
-    let mut temp = tempfile::NamedTempFile::new_in(&dir).map_err(failed)?;
-    {
-        let mut writer = io::BufWriter::with_capacity(1 << 16, temp.as_file_mut());
-        out(&mut writer).map_err(failed)?;
-        writer.flush().map_err(failed)?;
-    }
-    // A temporary file is private (0600); a picture is not.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        temp.as_file().set_permissions(std::fs::Permissions::from_mode(0o644)).map_err(failed)?;
-    }
-    temp.persist(path).map_err(|err| failed(err.error))?;
-    Ok(())
+/// Writes `out` to `output` and commits it: nothing is replaced unless all of it was written.
+fn save(mut output: OutputFile, path: &Path, out: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), String> {
+    out(&mut output).and_then(|()| output.commit()).map_err(|err| cannot_write(path, &err))
 }
 
 pub(super) fn usage_error(message: &str) -> Result<i32, String> {
@@ -347,6 +429,8 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
         width: args.size.0,
         height: args.size.1,
     };
+    // Now, so that an output that cannot be written is said before the simulation runs.
+    let output = OutputFile::create(&args.output).map_err(|err| cannot_write(&args.output, &err))?;
     let total = input_size(&input);
     let failed = |report: &Report| {
         show(report, &input);
@@ -374,7 +458,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
                 true
             });
             show(&report, &input);
-            write_atomically(&args.output, |out| image.write_png(out))?;
+            save(output, &args.output, |out| image.write_png(out))?;
             return Ok(0);
         }
     }
@@ -383,7 +467,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
     // The simulation.
     let mut sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
         Ok(sim) => sim,
-        Err(message) => return usage_error(&message),
+        Err(refused) => return refused.exit(&args.common, &input),
     };
     let mut progress = Progress::new(total, "cutting", args.quiet);
     let mut tracker = Tracker::new(&config.tools);
@@ -407,10 +491,10 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
     let field = sim.finish();
 
     match format {
-        Format::Stl => write_atomically(&args.output, |out| Mesh::new(&field).write_stl(out))?,
+        Format::Stl => save(output, &args.output, |out| Mesh::new(&field).write_stl(out))?,
         Format::TwoD => {
             let image = top::render(&field, camera.width, camera.height, config.units.abbreviation());
-            write_atomically(&args.output, |out| image.write_png(out))?;
+            save(output, &args.output, |out| image.write_png(out))?;
         }
         Format::ThreeD => {
             let (mut image, projection) = view::render(&field, &camera);
@@ -424,7 +508,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
                     true
                 });
             }
-            write_atomically(&args.output, |out| image.write_png(out))?;
+            save(output, &args.output, |out| image.write_png(out))?;
         }
     }
     Ok(0)
@@ -432,10 +516,15 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
 
 /// Three significant digits, rounded up (so the length quoted does fit).
 fn round_up(x: f64) -> String {
+    three_digits(x, f64::ceil)
+}
+
+/// Three significant digits, rounded by `round` (up or down).
+fn three_digits(x: f64, round: fn(f64) -> f64) -> String {
     let magnitude = x.log10().floor();
     let p = 10f64.powf(magnitude - 2.0);
     let decimals = (2.0 - magnitude).max(0.0) as usize;
-    let text = format!("{:.*}", decimals, (x / p).ceil() * p);
+    let text = format!("{:.*}", decimals, round(x / p) * p);
     if text.contains('.') {
         text.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {

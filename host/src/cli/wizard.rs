@@ -1,6 +1,6 @@
 //! `ger wizard new|build|list`, and `ger run --watch`.
 
-use std::io::{self, IsTerminal};
+use std::io::{self, IsTerminal, Write};
 use std::path::{Component, Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -10,8 +10,11 @@ use notify::{Event, EventKind, RecursiveMode, Watcher};
 
 use super::{report::plain_error, CommonArgs, Input, WizardOptions};
 use crate::config::Config;
+use crate::diag::clip;
 use crate::expand::build::{self, Progress, Source};
 use crate::expand::catalog::{self, Catalog};
+use crate::expand::{Wizards, SHOWN_MESSAGE};
+use crate::output::OutputFile;
 
 #[derive(Subcommand)]
 pub enum WizardCommand {
@@ -126,7 +129,13 @@ fn sources(catalog: &Catalog) -> Vec<String> {
 
 fn list(dir: &Path, no_build: bool) -> Result<i32, String> {
     let catalog = scan(dir)?;
-    let options = WizardOptions { dir: dir.to_path_buf(), no_build, wizard_time: 5.0, wizard_memory: 256 };
+    let options = WizardOptions {
+        dir: dir.to_path_buf(),
+        no_build,
+        wizard_time: 5.0,
+        wizard_total_time: 5.0,
+        wizard_memory: 256,
+    };
     let mut runtime = options.runtime(&Config::default());
     let mut failed = 0;
     if catalog.entries().next().is_none() {
@@ -138,13 +147,17 @@ fn list(dir: &Path, no_build: bool) -> Result<i32, String> {
             println!("{:<40} ({}, {language}, not built)", entry.name, entry.name);
             continue;
         }
+        // Each description is a run of its own, with a call's time.
+        runtime.start();
         match runtime.describe(&entry.name) {
             Ok(d) => {
-                println!("{:<40} ({}, {language})", d.usage, entry.name);
-                println!("    {}", d.summary);
+                // A wizard's texts are its own, and may be any length.
+                let shown = |text: &str| clip(text, SHOWN_MESSAGE).into_owned();
+                println!("{:<40} ({}, {language})", shown(&d.usage), entry.name);
+                println!("    {}", shown(&d.summary));
                 for p in &d.params {
                     let optional = if p.optional { " (optional)" } else { "" };
-                    println!("    {:<12} {}{optional}", p.name, p.description);
+                    println!("    {:<12} {}{optional}", shown(&p.name), shown(&p.description));
                 }
             }
             Err(diagnostic) => {
@@ -174,8 +187,9 @@ fn new(name: &str, dir: &Path) -> Result<i32, String> {
     })?;
     let write = |path: &Path, text: &str| {
         std::fs::create_dir_all(path.parent().expect("a file in a folder"))
-            .and_then(|()| std::fs::write(path, text))
-            .map_err(|err| plain_error(&format!("cannot write {}: {err}", path.display()), None))
+            .and_then(|()| OutputFile::create(path))
+            .and_then(|mut output| output.write_all(text.as_bytes()).and_then(|()| output.commit()))
+            .map_err(|err| super::cannot_write(path, &err))
     };
     std::fs::create_dir_all(&folder)
         .map_err(|err| plain_error(&format!("cannot create {}: {err}", folder.display()), None))?;

@@ -12,10 +12,12 @@
 //! (or a test run's parallel cases) build a wizard once, not twice at once.
 
 use std::fs::File;
-use std::io;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::SystemTime;
+
+use crate::output::{OutputFile, Replacement};
 
 /// Tells the user what a build is doing (it can take a while).
 pub type Progress = Box<dyn FnMut(&str)>;
@@ -138,16 +140,14 @@ pub fn build(
     }
     let name = source.dir.file_name().map_or_else(|| "wizard".into(), |n| n.to_string_lossy().into_owned());
     progress(&format!("building wizard `{name}` ({})", source.language.name()));
-    let temp = tempfile::Builder::new()
-        .suffix(".wasm")
-        .tempfile_in(wasm.parent().unwrap_or(Path::new(".")))
-        .map_err(|err| io_error("cannot create a file in", wizards, &err))?;
+    // The compiler writes the file itself: the regular-file rule of `crate::output`, by path.
+    let temp = Replacement::new(wasm).map_err(|err| io_error("cannot write", wasm, &err))?;
     match source.language {
         Language::Rust => build_rust(source, &work, temp.path(), progress)?,
         Language::Python => build_python(source, &ger, temp.path(), progress)?,
         Language::JavaScript => build_javascript(source, &ger, temp.path(), progress)?,
     }
-    temp.persist(wasm).map_err(|err| io_error("cannot write", wasm, &err.error))?;
+    temp.commit().map_err(|err| io_error("cannot write", wasm, &err))?;
     Ok(())
 }
 
@@ -249,7 +249,11 @@ fn write_if_changed(path: &Path, text: &str) -> Result<bool, BuildError> {
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(|err| io_error("cannot create", parent, &err))?;
     }
-    std::fs::write(path, text).map_err(|err| io_error("cannot write", path, &err))?;
+    let mut output = OutputFile::create(path).map_err(|err| io_error("cannot write", path, &err))?;
+    output
+        .write_all(text.as_bytes())
+        .and_then(|()| output.commit())
+        .map_err(|err| io_error("cannot write", path, &err))?;
     Ok(true)
 }
 

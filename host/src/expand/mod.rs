@@ -21,7 +21,7 @@ pub mod runtime;
 
 pub use runtime::{Limits, WasmWizards};
 
-use crate::diag::{Diagnostic, Span};
+use crate::diag::{clip, Diagnostic, Span};
 use crate::state::CallState;
 use crate::statement::{Statement, WizardArg};
 
@@ -32,11 +32,26 @@ pub struct Call<'a> {
     pub span: Span,
 }
 
+/// The most characters of a wizard's name a diagnostic shows.
+pub const SHOWN_NAME: usize = 64;
+/// The most characters of a wizard's own message (or of its usage) a
+/// diagnostic shows.
+pub const SHOWN_MESSAGE: usize = 1000;
+
+/// A wizard's name as diagnostics show it: cut to [`SHOWN_NAME`] characters.
+pub fn shown_name(name: &str) -> std::borrow::Cow<'_, str> {
+    clip(name, SHOWN_NAME)
+}
+
 /// Runs wizards.
 pub trait Wizards {
     /// The statements that replace `call`, each with the call's span, or a
     /// diagnostic (at the call's span) saying why there are none.
     fn expand(&mut self, call: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic>;
+
+    /// A translation starts: what all the wizard calls of one program may use
+    /// together (time, statements) is counted afresh from here.
+    fn start(&mut self) {}
 }
 
 /// No wizards at all: every call is an error.
@@ -44,7 +59,7 @@ pub struct NoWizards;
 
 impl Wizards for NoWizards {
     fn expand(&mut self, call: &Call, _: &CallState) -> Result<Vec<Statement>, Diagnostic> {
-        let message = format!("no wizard named `{}` to run this call", call.name);
+        let message = format!("no wizard named `{}` to run this call", shown_name(call.name));
         Err(Diagnostic::error(call.span, message).with_help(wizard_help(call.name)))
     }
 }
@@ -53,7 +68,8 @@ impl Wizards for NoWizards {
 pub fn wizard_help(name: &str) -> String {
     let upper = name.to_ascii_uppercase();
     let bytes = upper.as_bytes();
-    if bytes.len() >= 2
+    // G and M codes have a few digits: a longer name is no typo of one.
+    if (2..=6).contains(&bytes.len())
         && matches!(bytes[0], b'G' | b'M')
         && bytes[1] == b'O'
         && bytes[2..].iter().all(u8::is_ascii_digit)

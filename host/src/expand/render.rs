@@ -11,13 +11,15 @@
 use std::fmt::Write;
 
 use super::runtime::bindings::ger::wizard::types as wit;
-use crate::diag::{Diagnostic, Severity, Span};
+use super::{shown_name, SHOWN_MESSAGE};
+use crate::diag::{clip, Diagnostic, Severity, Span};
 use crate::lex::lex_str;
 use crate::parse::{parse, Event};
 use crate::statement::Statement;
 
 /// The statements `output` stands for, or an error at `span` naming `wizard`.
 pub fn render(output: &[wit::Statement], wizard: &str, span: Span) -> Result<Vec<Statement>, Diagnostic> {
+    let wizard = shown_name(wizard);
     let mut text = String::new();
     // The statement (1-based) each line of `text` came from.
     let mut line_owner = Vec::new();
@@ -40,12 +42,12 @@ pub fn render(output: &[wit::Statement], wizard: &str, span: Span) -> Result<Vec
             Event::Diagnostic(diagnostic) => {
                 let line = diagnostic.span.line as usize;
                 let index = line_owner.get(line.saturating_sub(1)).copied().unwrap_or(0);
-                let source = text.lines().nth(line.saturating_sub(1)).unwrap_or("");
+                let source = clip(text.lines().nth(line.saturating_sub(1)).unwrap_or(""), SHOWN_MESSAGE);
                 let kind = if diagnostic.severity == Severity::Error { "a bad" } else { "a doubtful" };
                 let message = format!(
                     "wizard `{wizard}` returned {kind} statement (#{}, `{source}`): {}",
                     index + 1,
-                    diagnostic.message
+                    clip(&diagnostic.message, SHOWN_MESSAGE)
                 );
                 let help = diagnostic.help.unwrap_or_else(|| "this is a fault in the wizard".to_string());
                 return Err(Diagnostic::error(span, message).with_help(help));
@@ -90,21 +92,22 @@ fn write_statement(out: &mut String, statement: &wit::Statement) -> Result<(), S
             if call.name.len() < 2 || !call.name.chars().all(|c| c.is_ascii_alphabetic()) {
                 return Err(format!(
                     "a call of `{}`: a wizard's name is two or more letters",
-                    call.name.escape_default()
+                    shown_name(&call.name).escape_default()
                 ));
             }
+            let name = shown_name(&call.name);
             out.push_str(&call.name);
             for arg in &call.args {
                 match arg {
                     wit::Arg::Number(n) if n.is_finite() => {
                         let _ = write!(out, " {n}");
                     }
-                    wit::Arg::Number(n) => return Err(format!("a call of `{}` with the argument {n}", call.name)),
+                    wit::Arg::Number(n) => return Err(format!("a call of `{name}` with the argument {n}")),
                     wit::Arg::Text(t) if !t.contains(['"', '\n', '\r']) => {
                         let _ = write!(out, " \"{t}\"");
                     }
                     wit::Arg::Text(_) => {
-                        return Err(format!("a call of `{}` with a text holding `\"` or a line break", call.name))
+                        return Err(format!("a call of `{name}` with a text holding `\"` or a line break"))
                     }
                 }
             }

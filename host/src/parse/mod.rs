@@ -779,6 +779,7 @@ fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnos
         ('G', 901) => "absolute arc centres (G90.1) are not supported: ger's I/J/K are relative to the start",
         ('G', 380..=389) | ('G', 310) => "probing needs a real machine",
         ('G', 650 | 660) => "Fanuc macro calls are not supported",
+        ('G', 330 | 331) => "spindle-synchronised motion (threading, rigid tapping) needs the spindle's encoder",
         ('G', 680) => "coordinate rotation (G68) is not supported: rotate the program in the CAM system",
         ('G', 510) => "scaling (G51) is not supported",
         ('G', 511) => "mirror imaging (G51.1) is not supported",

@@ -29,8 +29,8 @@ pub mod p03_polar;
 pub mod p04_absolute;
 pub mod p05_cutter_comp;
 
-pub use p00_subprograms::Library;
 use p00_subprograms::WizardRuntime;
+pub use p00_subprograms::{Body, Library};
 
 /// A pass that rewrites one statement at a time.
 pub trait Pass {
@@ -133,6 +133,7 @@ pub fn translate<'a, R: BufRead + 'a>(
     options: Options<'a>,
 ) -> Box<dyn Iterator<Item = Event> + 'a> {
     let Options { config, stage, wizards } = options;
+    wizards.start();
     let probe = state::probe(config.units);
     // Every pass runs whatever the stage shown: wizards are told the state
     // that passes 01-04 keep, so they must see every statement.

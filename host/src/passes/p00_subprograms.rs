@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 use crate::config::{Config, DialectConfig};
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::expand::{Call, Wizards};
+use crate::expand::{shown_name, Call, Wizards};
 use crate::parse::Event;
 use crate::state::Probe;
 use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, SplineCode, Statement};
@@ -30,7 +30,7 @@ pub const MAX_CALL_DEPTH: usize = 32;
 /// How deep wizard calls may nest (a wizard whose output calls a wizard ...).
 pub const MAX_WIZARD_DEPTH: usize = 16;
 
-type Body = Arc<Vec<Statement>>;
+pub type Body = Arc<Vec<Statement>>;
 
 /// The subprograms a program can call.
 pub struct Library<'a> {
@@ -38,19 +38,51 @@ pub struct Library<'a> {
     scan: Option<Box<dyn FnOnce() -> HashMap<u32, Body> + 'a>>,
     /// Reads the program again from its start, for M47.
     reopen: Option<Reopen<'a>>,
+    /// Finds a program kept in a file of its own, as a Fanuc or Haas keeps
+    /// programs in its memory by number: the file's name and the body.
+    files: Option<FindFile<'a>>,
+    /// The programs found in files, and the files' names.
+    found: HashMap<u32, (String, Body)>,
 }
 
 type Reopen<'a> = Box<dyn FnMut() -> Box<dyn Iterator<Item = Event> + 'a> + 'a>;
+type FindFile<'a> = Box<dyn FnMut(u32) -> Option<(String, Body)> + 'a>;
+
+/// A subprogram to run: its body, and the file it came from if it is not
+/// in the program itself.
+type Found = (Body, Option<String>);
 
 impl<'a> Library<'a> {
     /// Only the subprograms defined before they are called.
     pub fn empty() -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: None, reopen: None }
+        Library { bodies: HashMap::new(), scan: None, reopen: None, files: None, found: HashMap::new() }
     }
 
     /// `scan` is run the first time a call names a program not seen yet.
     pub fn scanning(scan: impl FnOnce() -> HashMap<u32, Body> + 'a) -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: Some(Box::new(scan)), reopen: None }
+        Library { scan: Some(Box::new(scan)), ..Library::empty() }
+    }
+
+    /// `files` looks for a program the program itself does not define, in
+    /// files of its own (the lenient dialect).
+    pub fn with_files(mut self, files: impl FnMut(u32) -> Option<(String, Body)> + 'a) -> Library<'a> {
+        self.files = Some(Box::new(files));
+        self
+    }
+
+    /// The body of program `number` in a file of its own: the file's first
+    /// O word must name it, and it runs to its M99 (or M30, or the end).
+    pub fn scan_file(program: impl BufRead, number: u32, dialect: &DialectConfig) -> Option<Body> {
+        let mut statements = super::parse(program, dialect).filter_map(|event| match event {
+            Event::Statement(statement) => Some(statement),
+            Event::Diagnostic(_) => None,
+        });
+        match statements.next()?.kind {
+            Kind::Program(n) if n == number => {}
+            _ => return None,
+        }
+        let body = statements.take_while(|s| !matches!(s.kind, Kind::Return | Kind::End)).collect();
+        Some(Arc::new(body))
     }
 
     /// `reopen` parses the program again from its start: M47 (lenient
@@ -84,7 +116,7 @@ impl<'a> Library<'a> {
         bodies
     }
 
-    fn find(&mut self, program: u32) -> Option<Body> {
+    fn find(&mut self, program: u32) -> Option<Found> {
         if !self.bodies.contains_key(&program) {
             if let Some(scan) = self.scan.take() {
                 for (n, body) in scan() {
@@ -92,7 +124,14 @@ impl<'a> Library<'a> {
                 }
             }
         }
-        self.bodies.get(&program).cloned()
+        if let Some(body) = self.bodies.get(&program) {
+            return Some((body.clone(), None));
+        }
+        if !self.found.contains_key(&program) {
+            let file = self.files.as_mut().and_then(|files| files(program))?;
+            self.found.insert(program, file);
+        }
+        self.found.get(&program).map(|(file, body)| (body.clone(), Some(file.clone())))
     }
 }
 
@@ -127,7 +166,6 @@ pub struct Subprograms<'a, I> {
     seen_first_statement: bool,
     ended: bool,
     warned_after_end: bool,
-    warned_m99: bool,
     /// An event to hand out before reading on.
     pending: Option<Event>,
     motion: MotionMode,
@@ -159,7 +197,6 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             seen_first_statement: false,
             ended: false,
             warned_after_end: false,
-            warned_m99: false,
             pending: None,
             motion: MotionMode::Rapid,
             cycle: None,
@@ -226,16 +263,13 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     .with_help("after M30, only subprograms (O... to M99) belong in the file");
                 Some(Event::Diagnostic(diagnostic))
             }
-            // Fanuc and Haas rewind the main program at its M99 and run it
-            // again: the lenient dialect reads it as M47.
+            // A subprogram's file run on its own: LinuxCNC ends the program at
+            // its M99, as the lenient dialect does; Fanuc and Haas would rewind.
             Kind::Return if self.runtime.config.dialect.name == Dialect::Lenient => {
-                let message = "M99 in the main program runs it again from the start, as M47 does";
-                let help = "the program is read again [machine] m47_repeats times (default 1), then it ends";
-                if !std::mem::replace(&mut self.warned_m99, true) {
-                    self.pending =
-                        Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
-                }
-                self.main_statement(statement.with_kind(Kind::Repeat))
+                let message = "M99 in the main program ends it here";
+                let help = "a Fanuc or Haas would run the program again: write M30 to end it, or M47 to repeat it";
+                self.pending = Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
+                self.main_statement(statement.with_kind(Kind::End))
             }
             Kind::Return => {
                 let diagnostic = Diagnostic::error(statement.span, "M99 outside a subprogram")
@@ -278,18 +312,28 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     self.stack.clear();
                     return Some(error(&statement, diagnostic));
                 }
-                let Some(body) = self.library.find(program) else {
+                let Some((mut body, file)) = self.library.find(program) else {
+                    let mut help = format!("define it after M30: O{program} ... M99");
+                    if self.runtime.config.dialect.name == Dialect::Lenient {
+                        help.push_str(&format!(", or keep it in a file of its own beside the program (O{program}.nc)"));
+                    }
                     let diagnostic =
                         Diagnostic::error(statement.span, format!("M98 calls O{program}, which is not in the program"))
-                            .with_help(format!("define it after M30: O{program} ... M99"));
+                            .with_help(help);
                     return Some(error(&statement, diagnostic));
                 };
+                if file.is_some() {
+                    // Its lines are another file's: they say where the call is, as a wizard's do.
+                    let mut statements = body.to_vec();
+                    statements.iter_mut().for_each(|s| s.span = statement.span);
+                    body = Arc::new(statements);
+                }
                 if repeat > 0 {
-                    let origin = Arc::new(Origin {
-                        what: format!("O{program}"),
-                        call: statement.span,
-                        parent: statement.origin.clone(),
-                    });
+                    let what = match &file {
+                        Some(file) => format!("O{program} (from {file})"),
+                        None => format!("O{program}"),
+                    };
+                    let origin = Arc::new(Origin { what, call: statement.span, parent: statement.origin.clone() });
                     self.stack.push(Frame { body, next: 0, repeats_left: repeat, origin, wizard: false });
                 }
                 None
@@ -304,9 +348,33 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     .with_help("a subprogram returns with M99; M30 ends the main program");
                 Some(error(&statement, diagnostic))
             }
+            // Only a wizard's output brings these here (a subprogram's body
+            // ends before its M99): run in place of the call, M99 would end
+            // the main program, and O would define a subprogram inside one.
+            Kind::Return | Kind::Program(_) if self.stack.last().is_some_and(|frame| frame.wizard) => {
+                let frame = self.stack.pop().expect("matched Some");
+                let (message, help) = match statement.kind {
+                    Kind::Program(number) => (
+                        format!(
+                            "O{number} in the output of {}: a wizard cannot define a subprogram",
+                            frame.origin.what
+                        ),
+                        "subprograms are defined in the program (O... to M99, after M30); \
+                         a wizard's output may call them with M98 P...",
+                    ),
+                    _ => (
+                        format!("M99 in the output of {}", frame.origin.what),
+                        "a wizard's statements run in place of its call, not as a subprogram: \
+                         there M99 would end the main program (on Fanuc or Haas, rewind and repeat it)",
+                    ),
+                };
+                let help = format!("{help}; the rest of this call's statements are dropped");
+                Some(error(&statement, Diagnostic::error(statement.span, message).with_help(help)))
+            }
             Kind::Wizard { name, args } => {
                 let depth = self.stack.iter().filter(|frame| frame.wizard).count();
                 if depth >= MAX_WIZARD_DEPTH {
+                    let name = shown_name(name);
                     let message =
                         format!("wizard calls nest deeper than {MAX_WIZARD_DEPTH}: `{name}` recurses without end");
                     let diagnostic = Diagnostic::error(statement.span, message)
@@ -322,7 +390,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                             generated.span = statement.span;
                         }
                         let origin = Arc::new(Origin {
-                            what: format!("wizard `{name}`"),
+                            what: format!("wizard `{}`", shown_name(name)),
                             call: statement.span,
                             parent: statement.origin.clone(),
                         });
@@ -655,6 +723,21 @@ mod tests {
             assert_eq!(state.line, 6);
             // The wizard's move is incremental, in mm, from X35.4 mm: to 36.4 mm = 1.4331 in.
             assert_eq!(got[2], "N6 G01 X1.4331 F3.9370");
+        }
+
+        #[test]
+        fn m99_or_o_in_a_wizards_output_is_an_error_at_the_call() {
+            let chain = r#"["in wizard `Rewind` called at line 1"]"#;
+            let mut fake = Fake { seen: Vec::new(), answer: "G01 X1 F10\nM99\nG01 X2" };
+            let got = run("Rewind\nM30", &mut fake);
+            let error = format!("1:1: error: M99 in the output of wizard `Rewind` {chain}");
+            assert_eq!(got, ["N1 G01 X1.0000 F10.0000", &error, "N2 M30"]);
+            let mut fake = Fake { seen: Vec::new(), answer: "O100\nX3\nM99" };
+            let got = run("Rewind\nM30", &mut fake);
+            let error = format!(
+                "1:1: error: O100 in the output of wizard `Rewind`: a wizard cannot define a subprogram {chain}"
+            );
+            assert_eq!(got, [&error, "N2 M30"]);
         }
 
         #[test]

@@ -3,6 +3,8 @@
 //! every block and tile beside it so that a cut can pass over material it
 //! cannot reach.
 
+use std::collections::TryReserveError;
+
 use super::Stock;
 
 /// Cells along a tile's side.
@@ -44,16 +46,21 @@ impl HeightField {
         (count(stock.max[0] - stock.min[0]), count(stock.max[1] - stock.min[1]))
     }
 
-    /// Uncut stock. The caller has checked the size against the memory limit.
-    pub fn new(stock: Stock, cell: f64) -> HeightField {
+    /// Uncut stock. The caller has checked the size against the memory limit;
+    /// the system may still not have that much memory to give.
+    pub fn new(stock: Stock, cell: f64) -> Result<HeightField, TryReserveError> {
         let (nx, ny) = Self::cells(&stock, cell);
         // Cells tile the stock exactly: stretch the cell a little if the size is not a multiple.
         let cell = (stock.max[0] - stock.min[0]) / nx as f64;
         let (tiles_x, tiles_y) = (nx.div_ceil(TILE), ny.div_ceil(TILE));
         let top = stock.max[2] as f32;
-        let data = vec![top; tiles_x * tiles_y * TILE * TILE];
+        let count = tiles_x * tiles_y * TILE * TILE;
+        let mut data = Vec::new();
+        data.try_reserve_exact(count)?;
+        data.resize(count, top);
         let side = TILE / BLOCK;
-        let mut block_tops = Vec::with_capacity(tiles_x * tiles_y * BLOCKS);
+        let mut block_tops = Vec::new();
+        block_tops.try_reserve_exact(tiles_x * tiles_y * BLOCKS)?;
         for t in 0..tiles_x * tiles_y {
             let (i_base, j_base) = ((t % tiles_x) * TILE, (t / tiles_x) * TILE);
             for b in 0..BLOCKS {
@@ -61,7 +68,8 @@ impl HeightField {
                 block_tops.push(if inside { top } else { f32::NEG_INFINITY });
             }
         }
-        HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data, block_tops, tile_tops: vec![top; tiles_x * tiles_y] }
+        let tile_tops = vec![top; tiles_x * tiles_y];
+        Ok(HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data, block_tops, tile_tops })
     }
 
     /// A cell's side along Y (equal to `cell` unless the stock's Y is not a multiple of it).

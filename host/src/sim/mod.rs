@@ -52,12 +52,22 @@ impl Stock {
     /// The finest cell whose height field fits in `limit` bytes.
     pub fn finest_cell(&self, limit: u64) -> f64 {
         let size = self.size();
-        let mut cell = (size[0] * size[1] * 4.0 / limit as f64).sqrt();
+        // Never zero, which growing by 1% would not leave.
+        let mut cell = (size[0] * size[1] * 4.0 / limit as f64).sqrt().max(f64::MIN_POSITIVE);
         while HeightField::bytes(self, cell) > limit as u128 {
             cell *= 1.01;
         }
         cell
     }
+}
+
+/// Why a simulation cannot be made.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Refusal {
+    /// The height field at this resolution would not fit in the memory limit.
+    TooBig(TooBig),
+    /// It would, but the system cannot give that much memory.
+    OutOfMemory { needed: u128 },
 }
 
 /// A resolution whose height field would not fit in the memory limit.
@@ -266,12 +276,12 @@ fn cells_between(lo: f64, hi: f64, origin: f64, cell: f64, n: usize) -> Option<(
 
 impl Simulation {
     /// Uncut stock at `cell` resolution, unless its height field would take more than `limit` bytes.
-    pub fn new(stock: Stock, cell: f64, limit: u64) -> Result<Simulation, TooBig> {
+    pub fn new(stock: Stock, cell: f64, limit: u64) -> Result<Simulation, Refusal> {
         let needed = HeightField::bytes(&stock, cell);
         if needed > limit as u128 {
-            return Err(TooBig { needed, limit, finest: stock.finest_cell(limit) });
+            return Err(Refusal::TooBig(TooBig { needed, limit, finest: stock.finest_cell(limit) }));
         }
-        let field = HeightField::new(stock, cell);
+        let field = HeightField::new(stock, cell).map_err(|_| Refusal::OutOfMemory { needed })?;
         let frame = Frame {
             x0: field.stock.min[0],
             y0: field.stock.min[1],

@@ -157,7 +157,7 @@ fn a_tool_not_in_the_table_is_an_error_at_its_m06() {
 #[test]
 fn a_resolution_too_fine_for_the_limit_names_the_finest_that_fits() {
     let stock = Stock { min: [0.0, 0.0, -1.0], max: [100.0, 100.0, 0.0] };
-    let err = Simulation::new(stock, 0.001, 64 << 20).err().unwrap();
+    let Some(Refusal::TooBig(err)) = Simulation::new(stock, 0.001, 64 << 20).err() else { panic!("not refused") };
     assert!(err.needed > 64 << 20);
     assert!(HeightField::bytes(&stock, err.finest) <= 64 << 20);
     assert!(HeightField::bytes(&stock, err.finest * 0.97) > 64 << 20);

@@ -1,5 +1,14 @@
 //! What the integration tests share: the rule for a trusted peer (rs274,
-//! Chromium, the shared corpus) that this machine lacks.
+//! Chromium, the shared corpus) that this machine lacks, running a program
+//! with a time limit (`process`), the corpus and its classes (`corpus`), and
+//! the comparison with LinuxCNC's interpreter (`rs274`).
+
+// Every test binary compiles all of this module and uses only part of it.
+#![allow(dead_code)]
+
+pub mod corpus;
+pub mod process;
+pub mod rs274;
 
 use std::io::Write;
 

@@ -24,9 +24,15 @@ pub struct Finished {
 pub fn run(command: &mut Command, wall_limit: Duration) -> Finished {
     let out = tempfile::tempfile().unwrap();
     let err = tempfile::tempfile().unwrap();
-    let child =
-        command.stdin(Stdio::null()).stdout(out.try_clone().unwrap()).stderr(err.try_clone().unwrap()).spawn().unwrap();
-    let pid = child.id() as libc::pid_t;
+    // Reaped by wait4 below, which gives the usage std's wait does not.
+    #[allow(clippy::zombie_processes)]
+    let pid = command
+        .stdin(Stdio::null())
+        .stdout(out.try_clone().unwrap())
+        .stderr(err.try_clone().unwrap())
+        .spawn()
+        .unwrap()
+        .id() as libc::pid_t;
     let started = Instant::now();
     let mut timed_out = false;
     let mut status = 0;
@@ -47,12 +53,13 @@ pub fn run(command: &mut Command, wall_limit: Duration) -> Finished {
         std::thread::sleep(Duration::from_millis(2));
     }
     let time = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
+    // Lossily: rs274 echoes the program's comments, which may not be UTF-8.
     let read = |mut file: File| {
         use std::io::Seek;
-        let mut text = String::new();
+        let mut bytes = Vec::new();
         file.rewind().unwrap();
-        file.read_to_string(&mut text).unwrap();
-        text
+        file.read_to_end(&mut bytes).unwrap();
+        String::from_utf8_lossy(&bytes).into_owned()
     };
     Finished {
         code: libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status)),

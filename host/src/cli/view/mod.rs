@@ -16,7 +16,7 @@ use std::path::Path;
 
 use clap::Args;
 
-use super::render::{positive, usage_error};
+use super::render::{memory_limit, resolution, usage_error};
 use super::report::plain_error;
 use super::CommonArgs;
 
@@ -29,10 +29,10 @@ pub(crate) struct ViewArgs {
     port: u16,
     /// The side of a simulation cell, in machine units [default: 1/500 of
     /// the stock's longer side].
-    #[arg(long, value_name = "LENGTH", value_parser = positive)]
+    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
     resolution: Option<f64>,
     /// MiB the simulation's height field may take [default: the config's, or 2048].
-    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
     memory_limit: Option<u64>,
 }
 

@@ -5,6 +5,7 @@
 
 use std::convert::Infallible;
 use std::sync::Arc;
+use std::time::Duration;
 
 use axum::body::{Body, Bytes};
 use axum::extract::rejection::{BytesRejection, QueryRejection};
@@ -17,6 +18,9 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
 use futures_util::Stream;
+use hyper::server::conn::http1;
+use hyper_util::rt::{TokioIo, TokioTimer};
+use hyper_util::service::TowerToHyperService;
 use serde::Deserialize;
 use serde_json::{json, Value};
 
@@ -27,6 +31,10 @@ use super::session::{Notice, Refusal, Session, Snapshot};
 pub(super) const BODY_LIMIT: usize = 64 << 20;
 /// The most header bytes a request may have.
 const HEADER_LIMIT: usize = 64 << 10;
+/// How long a connection may take to send a request's head, or stay idle
+/// between requests: then it is closed, so that slow or silent clients cannot
+/// hold connections open.
+const HEAD_TIMEOUT: Duration = Duration::from_secs(5);
 
 type Shared = State<Arc<Session>>;
 
@@ -67,7 +75,25 @@ pub(super) async fn serve(listener: std::net::TcpListener, session: Arc<Session>
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .layer(middleware::from_fn_with_state(Arc::new(Guard::new(port)), guard))
         .with_state(session);
-    axum::serve(listener, app).await
+    loop {
+        let stream = match listener.accept().await {
+            Ok((stream, _)) => stream,
+            // Out of file descriptors, or the like: wait for connections being served to end.
+            Err(_) => {
+                tokio::time::sleep(Duration::from_millis(100)).await;
+                continue;
+            }
+        };
+        let service = TowerToHyperService::new(app.clone());
+        tokio::spawn(async move {
+            let connection = http1::Builder::new()
+                .timer(TokioTimer::new())
+                .header_read_timeout(HEAD_TIMEOUT)
+                .serve_connection(TokioIo::new(stream), service);
+            // A connection that fails (closed, timed out, not HTTP) ends alone.
+            let _ = connection.await;
+        });
+    }
 }
 
 /// What a request must say of where it is going and where it comes from.
@@ -96,10 +122,23 @@ async fn guard(State(guard): State<Arc<Guard>>, request: Request, next: Next) ->
     if size > HEADER_LIMIT {
         return refuse(StatusCode::REQUEST_HEADER_FIELDS_TOO_LARGE, "the headers are over 64 KiB").into_response();
     }
-    let host = headers.get(HOST).and_then(|h| h.to_str().ok()).unwrap_or_default();
-    if !guard.hosts.iter().any(|h| h == host) {
+    let mut hosts = headers.get_all(HOST).iter();
+    let host = hosts.next().and_then(|h| h.to_str().ok()).unwrap_or_default();
+    if hosts.next().is_some() {
+        // RFC 9112, 3.2: which one a proxy on the way read is anyone's guess.
+        return refuse(StatusCode::BAD_REQUEST, "a request has one Host header, not several").into_response();
+    }
+    let ours = |name: &str| guard.hosts.iter().any(|h| h == name);
+    if !ours(host) {
         let message = format!("the Host must be {} or {}", guard.hosts[0], guard.hosts[1]);
         return refuse(StatusCode::FORBIDDEN, message).into_response();
+    }
+    // An absolute-form target (`GET http://host/path`) names the host that counts (RFC 9112, 3.2.2).
+    if let Some(authority) = request.uri().authority() {
+        if !ours(authority.as_str()) {
+            let message = format!("the request is for {authority}, not {} or {}", guard.hosts[0], guard.hosts[1]);
+            return refuse(StatusCode::FORBIDDEN, message).into_response();
+        }
     }
     if !matches!(*request.method(), Method::GET | Method::HEAD) {
         if let Some(origin) = headers.get(ORIGIN) {

@@ -19,6 +19,7 @@ use super::ViewArgs;
 use crate::check::{Checker, Rule};
 use crate::diag::{Diagnostic, Severity, Span};
 use crate::emit::{preamble, Emitter};
+use crate::output::OutputFile;
 use crate::passes::Event;
 use crate::render::pieces::{self, Piece};
 use crate::sim::{HeightField, Step, Stock, Walker};
@@ -172,7 +173,7 @@ impl Session {
     /// so the watcher, seeing the file change, finds the text it already knows.
     pub fn save(&self, text: String) -> Result<u64, String> {
         let mut state = self.lock();
-        write_atomically(&state.program.file, text.as_bytes())?;
+        write_whole(&state.program.file, text.as_bytes())?;
         let text: Arc<str> = text.into();
         state.program.text = text.clone();
         state.program.disk = text;
@@ -323,18 +324,13 @@ fn read(file: &Path) -> Result<String, String> {
     std::fs::read_to_string(file).map_err(|err| format!("cannot read {}: {err}", file.display()))
 }
 
-/// Writes through a temporary file in the same folder, renamed over the file:
-/// never half-written. The file keeps its permissions.
-fn write_atomically(file: &Path, text: &[u8]) -> Result<(), String> {
-    let failed = |err: io::Error| format!("cannot write {}: {err}", file.display());
-    let folder = file.parent().unwrap_or(Path::new("."));
-    let mut temp = tempfile::NamedTempFile::new_in(folder).map_err(failed)?;
-    temp.write_all(text).and_then(|()| temp.as_file().sync_all()).map_err(failed)?;
-    if let Ok(metadata) = std::fs::metadata(file) {
-        temp.as_file().set_permissions(metadata.permissions()).map_err(failed)?;
-    }
-    temp.persist(file).map_err(|err| failed(err.error))?;
-    Ok(())
+/// Writes the file whole (see `crate::output`): never half-written, keeping its mode.
+fn write_whole(file: &Path, text: &[u8]) -> Result<(), String> {
+    let mut output = OutputFile::create(file).map_err(|err| format!("cannot write {}: {err}", file.display()))?;
+    output
+        .write_all(text)
+        .and_then(|()| output.commit())
+        .map_err(|err| format!("cannot write {}: {err}", file.display()))
 }
 
 /// What a translation, check and simulation of a program made.
@@ -375,8 +371,8 @@ fn make(args: &ViewArgs, program: &Program) -> Made {
     made.cell = stock.map_or(1.0, |stock| args.resolution.unwrap_or(view_cell(&stock)));
     let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), args.memory_limit, &config) {
         Ok(sim) => Some(Checker::new(&config, sim, &[])),
-        Err(message) => {
-            made.problems.push(message.trim_end().to_string());
+        Err(refused) => {
+            made.problems.push(refused.message);
             None
         }
     });

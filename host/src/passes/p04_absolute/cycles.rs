@@ -193,7 +193,8 @@ impl Absolute {
                 self.dwell(holes.p, statement, out);
                 self.move_to(MotionMode::Linear, at(clear), statement, out);
             }
-            // LinuxCNC's G84: feed in, reverse the spindle, dwell, feed out, turn it back.
+            // LinuxCNC's G84: feed in, reverse the spindle, dwell, feed out
+            // all the way to the retract level, turn the spindle back.
             CycleCode::Tap | CycleCode::TapLeft => {
                 let (inward, outward) = match cycle.code {
                     CycleCode::Tap => (Machine::SpindleCw, Machine::SpindleCcw),
@@ -206,7 +207,7 @@ impl Absolute {
                 self.move_to(MotionMode::Linear, at(bottom), statement, out);
                 self.spindle(outward, speed, statement, out);
                 self.dwell(holes.p, statement, out);
-                self.move_to(MotionMode::Linear, at(r_plane), statement, out);
+                self.move_to(MotionMode::Linear, at(clear), statement, out);
                 self.spindle(inward, speed, statement, out);
             }
         }

@@ -31,7 +31,7 @@ use std::sync::Arc;
 use super::{Out, Pass};
 use crate::config::Config;
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::statement::{Axes, Kind, Machine, Motion, MotionMode, Plane, Side, Statement, Value};
+use crate::statement::{Axes, Dialect, Kind, Machine, Motion, MotionMode, Plane, Side, Statement, Value};
 use geometry::{Corner, Point, Segment};
 
 /// How many statements may wait behind a held move for the next move in the
@@ -106,6 +106,8 @@ pub struct CutterComp {
     feed_carried: Option<Value>,
     /// The output's resolution: gaps and moves below it are not written.
     resolution: f64,
+    /// How the first move after G41/G42 enters: the manual's way, or LinuxCNC's.
+    dialect: Dialect,
 }
 
 impl CutterComp {
@@ -120,6 +122,7 @@ impl CutterComp {
             last_code: None,
             feed_carried: None,
             resolution: 10f64.powi(-(config.units.decimals() as i32)),
+            dialect: config.dialect.name,
         }
     }
 
@@ -363,6 +366,31 @@ impl CutterComp {
                     self.state = State::Entering { comp, at };
                     return;
                 };
+                // LinuxCNC (and Fanuc's start-up) cut a straight first move
+                // from where the tool is to its offset path's end (or where
+                // that path meets the next move's): the lenient dialect does
+                // too. The manual steps out first.
+                // A first arc runs from where the tool is to its offset's
+                // end about a centre moved along the end's radius, so that
+                // both ends are on it (LinuxCNC's arc entry).
+                if self.dialect == Dialect::Lenient {
+                    let entry = match path {
+                        Segment::Line { start, .. } => Some((start, offset)),
+                        Segment::Arc { start, centre, ccw, .. } => {
+                            let end = offset.end();
+                            let along = (end - centre).unit();
+                            let chord = end - start;
+                            let shift = ((end - centre).dot(end - centre) - (start - centre).dot(start - centre))
+                                / (2.0 * along.dot(chord));
+                            shift.is_finite().then(|| (start, Segment::arc(start, end, centre + along * shift, ccw)))
+                        }
+                    };
+                    if let Some((start, entry)) = entry {
+                        let held = Box::new(hold(statement, step, entry, start));
+                        self.state = State::On { comp, held };
+                        return;
+                    }
+                }
                 // The step out runs at the first move's speed: a rapid, or
                 // a feed move taking the feed the first move brings.
                 let (step_mode, step_feed) = match step.mode {
