@@ -1,12 +1,13 @@
 //! The machine, as `ger.toml` describes it. Every field has a default, so
 //! no file at all is a valid configuration.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::check::Rule;
 use crate::diag::{Diagnostic, Span};
 use crate::parse::CodeLists;
 use crate::statement::{Dialect, Units};
+use crate::tools::ToolSource;
 
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -17,8 +18,16 @@ pub struct Config {
     /// The work-offsets table: G54..G59, in machine units.
     #[serde(default)]
     pub offsets: WorkOffsets,
-    #[serde(default = "default_tools")]
+    /// The tool table: `[[tools]]`; without it, tool 1 is the default
+    /// quarter-inch endmill until the tools the program describes replace it
+    /// ([`crate::tools::settle`]).
+    #[serde(default)]
     pub tools: Vec<Tool>,
+    /// Where each tool of `tools` came from, by number: every tool of
+    /// `[[tools]]` says so; without them this is empty until the table is
+    /// settled for a program, and then every tool has its source.
+    #[serde(skip)]
+    pub tool_sources: Vec<(u32, ToolSource)>,
     /// "strict", the GER manual's G-code (default), or "lenient": that and
     /// what CAM programs and controllers commonly emit. Either the name
     /// alone (`dialect = "lenient"`) or a table (`[dialect]`) that also
@@ -111,6 +120,10 @@ pub struct StockConfig {
     /// The bounding box of everything cut below Z=0, plus this on each side
     /// (top at Z=0). Default: 0.1 in or 2.5 mm.
     pub margin: Option<f64>,
+    /// A margin of this percentage of the cut's size instead, and at least
+    /// 2 mm deep: a CAMotics project's automatic workpiece (not a key of the file).
+    #[serde(skip)]
+    pub margin_percent: Option<f64>,
 }
 
 /// `[render]`.
@@ -168,13 +181,25 @@ impl WorkOffsets {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ToolKind {
     Endmill,
     Ballmill,
     Drill,
     CenterDrill,
+}
+
+impl ToolKind {
+    /// As `ger.toml` writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToolKind::Endmill => "endmill",
+            ToolKind::Ballmill => "ballmill",
+            ToolKind::Drill => "drill",
+            ToolKind::CenterDrill => "center-drill",
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -224,7 +249,8 @@ impl Default for Config {
         Config {
             units: default_units(),
             offsets: WorkOffsets::default(),
-            tools: default_tools(),
+            tools: vec![Tool::default_tool(default_units())],
+            tool_sources: Vec::new(),
             dialect: DialectConfig::default(),
             machine: MachineSettings::default(),
             stock: StockConfig::default(),
@@ -238,9 +264,12 @@ fn default_units() -> Units {
     Units::Inch
 }
 
-/// Tool 1: a quarter-inch endmill.
-fn default_tools() -> Vec<Tool> {
-    vec![Tool { number: 1, kind: ToolKind::Endmill, diameter: 0.25, flute_length: None, tip_angle: None }]
+impl Tool {
+    /// Tool 1 when nothing describes it: a quarter-inch endmill, in `units`.
+    pub fn default_tool(units: Units) -> Tool {
+        let diameter = 0.25 * Units::Inch.factor_to(units);
+        Tool { number: 1, kind: ToolKind::Endmill, diameter, flute_length: None, tip_angle: None }
+    }
 }
 
 /// `dialect = "lenient"`, or a `[dialect]` table with the name and what to
@@ -339,10 +368,17 @@ mod units_name {
 impl Config {
     /// Parses a `ger.toml`. The diagnostic's span points into `text`.
     pub fn from_toml(text: &str) -> Result<Config, Diagnostic> {
-        let config: Config = toml::from_str(text).map_err(|err| {
+        let mut config: Config = toml::from_str(text).map_err(|err| {
             let span = err.span().map_or(Span::new(1, 1, 0), |range| span_of(text, range));
             Diagnostic::error(span, err.message().to_string())
         })?;
+        if config.tools.is_empty() {
+            config.tools = vec![Tool::default_tool(config.units)];
+        } else {
+            // The file's name is filled in when the table is settled for a program.
+            let source = ToolSource::Config { file: String::new() };
+            config.tool_sources = config.tools.iter().map(|t| (t.number, source.clone())).collect();
+        }
         config.validate(text)
     }
 
@@ -519,6 +555,16 @@ impl Config {
     pub fn tool(&self, number: u32) -> Option<&Tool> {
         self.tools.iter().find(|t| t.number == number)
     }
+
+    /// Whether the tool table is the file's `[[tools]]`, which nothing the program says replaces.
+    pub fn has_tool_table(&self) -> bool {
+        self.tool_sources.iter().any(|(_, source)| matches!(source, ToolSource::Config { .. }))
+    }
+
+    /// Where tool `number` came from, once the table is settled.
+    pub fn tool_source(&self, number: u32) -> Option<&ToolSource> {
+        self.tool_sources.iter().find(|(n, _)| *n == number).map(|(_, source)| source)
+    }
 }
 
 /// One step to a key in a TOML document: a table's key, or an array's element.
@@ -589,6 +635,15 @@ mod tests {
         assert_eq!(config, Config::default());
         assert_eq!(config.units, Units::Inch);
         assert_eq!(config.tool(1).unwrap().diameter, 0.25);
+    }
+
+    #[test]
+    fn the_default_tool_is_a_quarter_inch_in_a_mm_machine_too() {
+        let config = Config::from_toml("units = \"mm\"\n").unwrap();
+        assert_eq!(config.tool(1).unwrap().diameter, 6.35);
+        assert!(!config.has_tool_table());
+        let config = Config::from_toml("[[tools]]\nnumber = 2\nkind = \"drill\"\ndiameter = 0.25\n").unwrap();
+        assert!(config.has_tool_table() && config.tool(1).is_none());
     }
 
     #[test]

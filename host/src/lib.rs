@@ -21,3 +21,4 @@ pub mod render;
 pub mod sim;
 pub mod state;
 pub mod statement;
+pub mod tools;

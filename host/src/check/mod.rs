@@ -21,6 +21,7 @@ use crate::config::{Config, ToolKind};
 use crate::diag::{Diagnostic, Origin, Span};
 use crate::sim::{Contact, HeightField, Point, Segment, Simulation, Tracker};
 use crate::statement::{Kind, Machine, Statement};
+use crate::tools::ToolSource;
 pub use summary::{Bounds, Summary, ToolUse};
 
 /// The checks `ger check` makes beyond translation, by the names `--allow`,
@@ -35,10 +36,11 @@ pub enum Rule {
     BelowStock,
     Travel,
     ArcRadius,
+    DefaultTool,
 }
 
 impl Rule {
-    pub const ALL: [Rule; 7] = [
+    pub const ALL: [Rule; 8] = [
         Rule::RapidIntoStock,
         Rule::SpindleOff,
         Rule::FluteLength,
@@ -46,6 +48,7 @@ impl Rule {
         Rule::BelowStock,
         Rule::Travel,
         Rule::ArcRadius,
+        Rule::DefaultTool,
     ];
 
     pub fn name(self) -> &'static str {
@@ -57,6 +60,7 @@ impl Rule {
             Rule::BelowStock => "below-stock",
             Rule::Travel => "travel",
             Rule::ArcRadius => "arc-radius",
+            Rule::DefaultTool => "default-tool",
         }
     }
 
@@ -124,6 +128,8 @@ pub struct Checker<'c> {
     stops: u32,
     reported_stop: Option<u32>,
     feed: Option<f64>,
+    /// Said that a tool nothing describes is simulated as the default.
+    defaulted: bool,
     /// Moves seen so far: the tag of the next one.
     moves: u32,
     pending: VecDeque<Pending>,
@@ -148,6 +154,7 @@ impl<'c> Checker<'c> {
             stops: 0,
             reported_stop: None,
             feed: None,
+            defaulted: false,
             moves: 0,
             pending: VecDeque::new(),
             findings: Vec::new(),
@@ -191,6 +198,19 @@ impl<'c> Checker<'c> {
         self.moves += 1;
         let tool = self.tracker.tool();
         self.summary.add_move(&m.segment, m.rapid, self.feed, tool.map(|t| t.number));
+        if let Some(tool) = tool.filter(|t| self.config.tool_source(t.number) == Some(&ToolSource::Default)) {
+            if !std::mem::replace(&mut self.defaulted, true) {
+                let message = format!(
+                    "nothing describes tool {}: it is simulated as a quarter-inch endmill ({})",
+                    tool.number,
+                    self.length(tool.diameter)
+                );
+                let help =
+                    "give the machine's tools in ger.toml ([[tools]]), or keep the tool comments the CAM post writes";
+                let diagnostic = Diagnostic::warning(statement.span, message).with_help(help);
+                self.report(Rule::DefaultTool, tag, diagnostic.with_origin(statement.origin.clone()));
+            }
+        }
         self.check_travel(&m.segment, statement);
         if let Segment::Arc { radius, .. } = m.segment {
             let min = self.config.min_arc_radius();
@@ -249,6 +269,7 @@ impl<'c> Checker<'c> {
         // Stable: a translator's diagnostic stays before the checks of the move it precedes.
         self.findings.sort_by_key(|f| f.order);
         self.summary.measure_cut(self.sim.field(), self.tolerance);
+        self.summary.describe_tools(self.config);
         (Verdict { findings: self.findings, summary: self.summary }, self.sim.finish())
     }
 

@@ -6,9 +6,10 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::Rule;
-use crate::config::Config;
+use crate::config::{Config, ToolKind};
 use crate::sim::{HeightField, Point, Segment};
 use crate::statement::{Distance, Kind, Statement};
+use crate::tools::ToolSource;
 
 /// A box, in machine coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -27,7 +28,7 @@ impl Bounds {
     }
 }
 
-/// One tool's share of the work.
+/// One tool's share of the work, and the tool as the table describes it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ToolUse {
     pub number: u32,
@@ -35,6 +36,19 @@ pub struct ToolUse {
     pub cutting_distance: f64,
     /// Feed moves made with it.
     pub moves: u64,
+    /// `None` when the tool is not in the table.
+    pub kind: Option<ToolKind>,
+    pub diameter: Option<f64>,
+    /// Degrees, for drills and centre drills.
+    pub tip_angle: Option<f64>,
+    /// Where the table's entry came from (`None` when not in it, or not known).
+    pub source: Option<ToolSource>,
+}
+
+impl ToolUse {
+    fn new(number: u32) -> ToolUse {
+        ToolUse { number, cutting_distance: 0.0, moves: 0, kind: None, diameter: None, tip_angle: None, source: None }
+    }
 }
 
 /// The field names are the JSON output's (`ger check --format json`), documented in the README.
@@ -126,7 +140,7 @@ impl Summary {
             let index = match self.tools.iter().position(|t| t.number == number) {
                 Some(index) => index,
                 None => {
-                    self.tools.push(ToolUse { number, cutting_distance: 0.0, moves: 0 });
+                    self.tools.push(ToolUse::new(number));
                     self.tools.len() - 1
                 }
             };
@@ -146,6 +160,19 @@ impl Summary {
                     let [x, y] = field.centre(i, j);
                     Bounds::grow(&mut self.cut_box, [x - half_x, y - half_y, z], [x + half_x, y + half_y, top]);
                 }
+            }
+        }
+    }
+
+    /// Says what each tool used is, and where the table got it from.
+    pub(super) fn describe_tools(&mut self, config: &Config) {
+        for used in &mut self.tools {
+            if let Some(tool) = config.tool(used.number) {
+                used.kind = Some(tool.kind);
+                used.diameter = Some(tool.diameter);
+                let pointed = matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill);
+                used.tip_angle = tool.tip_angle.or(pointed.then_some(crate::sim::tool::DEFAULT_TIP_ANGLE));
+                used.source = config.tool_source(used.number).cloned();
             }
         }
     }

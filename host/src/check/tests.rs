@@ -19,7 +19,11 @@ fn config() -> Config {
             flute_length: Some(10.0),
             tip_angle: None,
         }],
-        stock: StockConfig { size: Some([100.0, 50.0, 20.0]), origin: Some([0.0, 0.0, 20.0]), margin: None },
+        stock: StockConfig {
+            size: Some([100.0, 50.0, 20.0]),
+            origin: Some([0.0, 0.0, 20.0]),
+            ..StockConfig::default()
+        },
         ..Config::default()
     }
 }
@@ -70,7 +74,18 @@ fn a_clean_program_has_no_findings_and_its_summary_adds_up() {
     assert!(near(cut.min, [7.0, 7.0, -2.0]) && near(cut.max, [53.0, 13.0, 0.0]), "{cut:?}");
     let path = s.path_box.unwrap();
     assert_eq!((path.min, path.max), ([0.0, 0.0, -2.0], [50.0, 10.0, 5.0]));
-    assert_eq!(s.tools, vec![ToolUse { number: 1, cutting_distance: 47.0, moves: 2 }]);
+    assert_eq!(
+        s.tools,
+        vec![ToolUse {
+            number: 1,
+            cutting_distance: 47.0,
+            moves: 2,
+            kind: Some(ToolKind::Endmill),
+            diameter: Some(6.0),
+            tip_angle: None,
+            source: None
+        }]
+    );
     let codes: Vec<(&str, u64)> = s.codes.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     assert_eq!(codes, [("G00", 3), ("G01", 2), ("M03", 1), ("M05", 1), ("M30", 1)]);
     assert!(s.problems.is_empty());
@@ -199,7 +214,8 @@ fn past_a_hundred_a_rule_only_counts_and_batches_do_not_lose_moves() {
     // 40,000 rapids, each 0.01 mm deeper than the last, in a deep block: more
     // moves than one batch of the simulation holds.
     let mut config = config();
-    config.stock = StockConfig { size: Some([100.0, 50.0, 500.0]), origin: Some([0.0, 0.0, 500.0]), margin: None };
+    config.stock =
+        StockConfig { size: Some([100.0, 50.0, 500.0]), origin: Some([0.0, 0.0, 500.0]), ..StockConfig::default() };
     let mut text = String::from("G21\nM03\nG00 X10 Y10 Z1\n");
     for k in 1..=40_000 {
         text.push_str(&format!("Z{:.2}\n", -0.01 * k as f64));

@@ -462,7 +462,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
             return Ok(0);
         }
     }
-    let stock = stock.unwrap_or_else(|| bounds.stock(config.stock_margin()));
+    let stock = stock.unwrap_or_else(|| bounds.stock_for(&config));
 
     // The simulation.
     let mut sim = match simulation(stock, args.resolution, args.memory_limit, &config) {

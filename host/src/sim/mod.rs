@@ -125,14 +125,36 @@ impl CutBounds {
     /// A program that cuts nothing gets a block `margin` deep under its moves.
     pub fn stock(&self, margin: f64) -> Stock {
         let margin = if margin > 0.0 { margin } else { 1e-3 };
-        let (lo, hi) = match (self.cut, self.all) {
-            (Some(cut), _) => cut,
-            (None, Some((lo, hi))) => ([lo[0], lo[1], 0.0], [hi[0], hi[1], 0.0]),
-            (None, None) => ([0.0; 3], [0.0; 3]),
-        };
+        let (lo, hi) = self.cut_box();
         Stock {
             min: [lo[0] - margin, lo[1] - margin, lo[2].min(0.0) - margin],
             max: [hi[0] + margin, hi[1] + margin, 0.0],
+        }
+    }
+
+    /// The stock the config asks for around the cut: `[stock] margin`, or a
+    /// CAMotics project's automatic workpiece, as CAMotics makes it: the box
+    /// of the cut (at least `min_depth` deep, else that much deeper), grown by
+    /// `percent` of its size on each side and below.
+    pub fn stock_for(&self, config: &Config) -> Stock {
+        let Some(percent) = config.stock.margin_percent else { return self.stock(config.stock_margin()) };
+        let (lo, hi) = self.cut_box();
+        let mut lo = [lo[0], lo[1], lo[2].min(0.0)];
+        let hi = [hi[0], hi[1], 0.0];
+        let min_depth = 2.0 * crate::statement::Units::Mm.factor_to(config.units);
+        if hi[2] - lo[2] < min_depth {
+            lo[2] -= min_depth;
+        }
+        let grow: Point = std::array::from_fn(|i| ((hi[i] - lo[i]) * percent / 100.0).max(1e-3));
+        Stock { min: std::array::from_fn(|i| lo[i] - grow[i]), max: [hi[0] + grow[0], hi[1] + grow[1], 0.0] }
+    }
+
+    /// The box of the cut; of the moves, at Z=0, when nothing is cut.
+    fn cut_box(&self) -> (Point, Point) {
+        match (self.cut, self.all) {
+            (Some(cut), _) => cut,
+            (None, Some((lo, hi))) => ([lo[0], lo[1], 0.0], [hi[0], hi[1], 0.0]),
+            (None, None) => ([0.0; 3], [0.0; 3]),
         }
     }
 }

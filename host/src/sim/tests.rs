@@ -10,7 +10,7 @@ use crate::passes::testing;
 fn config(kind: ToolKind, diameter: f64, tip_angle: Option<f64>) -> Config {
     Config {
         tools: vec![Tool { number: 1, kind, diameter, flute_length: None, tip_angle }],
-        stock: StockConfig { size: Some([2.0, 1.0, 0.5]), origin: Some([0.0, 0.0, 0.5]), margin: None },
+        stock: StockConfig { size: Some([2.0, 1.0, 0.5]), origin: Some([0.0, 0.0, 0.5]), ..StockConfig::default() },
         ..Config::default()
     }
 }

@@ -366,7 +366,7 @@ fn make(args: &ViewArgs, program: &Program) -> Made {
     // Without a size, the stock is where the program cuts: one pass to find it (as `ger check`).
     let stock = Stock::from_config(&config).or_else(|| {
         let (_, cut, path_box) = bounds(&input, &config, &mut wizards, true);
-        path_box.map(|_| cut.stock(config.stock_margin()))
+        path_box.map(|_| cut.stock_for(&config))
     });
     made.cell = stock.map_or(1.0, |stock| args.resolution.unwrap_or(view_cell(&stock)));
     let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), args.memory_limit, &config) {
