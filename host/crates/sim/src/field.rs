@@ -1,5 +1,7 @@
 //! The height field: one Z per XY cell of the stock, stored in square tiles so
-//! that threads can cut different tiles at once.
+//! that threads can cut different tiles at once, with the highest cell of
+//! every block and tile beside it so that a cut can pass over material it
+//! cannot reach.
 
 use std::collections::TryReserveError;
 
@@ -7,6 +9,10 @@ use super::Stock;
 
 /// Cells along a tile's side.
 pub const TILE: usize = 64;
+/// Cells along a block's side: a tile is BLOCKS x BLOCKS blocks.
+pub const BLOCK: usize = 8;
+/// Blocks in a tile.
+pub const BLOCKS: usize = (TILE / BLOCK) * (TILE / BLOCK);
 
 #[derive(Clone, Debug)]
 pub struct HeightField {
@@ -20,6 +26,11 @@ pub struct HeightField {
     pub tiles_y: usize,
     /// Tile-major: tile (tx, ty) holds TILE x TILE cells, row-major inside.
     pub(super) data: Vec<f32>,
+    /// Per tile, row-major: the highest cell of each block (minus infinity
+    /// for a block wholly outside the stock). Exact after every cut.
+    pub(super) block_tops: Vec<f32>,
+    /// The highest cell of each tile: the highest of its blocks.
+    pub(super) tile_tops: Vec<f32>,
 }
 
 impl HeightField {
@@ -27,7 +38,7 @@ impl HeightField {
     pub fn bytes(stock: &Stock, cell: f64) -> u128 {
         let (nx, ny) = Self::cells(stock, cell);
         let tiles = nx.div_ceil(TILE) as u128 * ny.div_ceil(TILE) as u128;
-        tiles * (TILE * TILE) as u128 * 4
+        tiles * (TILE * TILE + BLOCKS + 1) as u128 * 4
     }
 
     pub fn cells(stock: &Stock, cell: f64) -> (usize, usize) {
@@ -42,11 +53,23 @@ impl HeightField {
         // Cells tile the stock exactly: stretch the cell a little if the size is not a multiple.
         let cell = (stock.max[0] - stock.min[0]) / nx as f64;
         let (tiles_x, tiles_y) = (nx.div_ceil(TILE), ny.div_ceil(TILE));
+        let top = stock.max[2] as f32;
         let count = tiles_x * tiles_y * TILE * TILE;
         let mut data = Vec::new();
         data.try_reserve_exact(count)?;
-        data.resize(count, stock.max[2] as f32);
-        Ok(HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data })
+        data.resize(count, top);
+        let side = TILE / BLOCK;
+        let mut block_tops = Vec::new();
+        block_tops.try_reserve_exact(tiles_x * tiles_y * BLOCKS)?;
+        for t in 0..tiles_x * tiles_y {
+            let (i_base, j_base) = ((t % tiles_x) * TILE, (t / tiles_x) * TILE);
+            for b in 0..BLOCKS {
+                let inside = i_base + (b % side) * BLOCK < nx && j_base + (b / side) * BLOCK < ny;
+                block_tops.push(if inside { top } else { f32::NEG_INFINITY });
+            }
+        }
+        let tile_tops = vec![top; tiles_x * tiles_y];
+        Ok(HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data, block_tops, tile_tops })
     }
 
     /// A cell's side along Y (equal to `cell` unless the stock's Y is not a multiple of it).
@@ -64,11 +87,6 @@ impl HeightField {
     #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         self.data[self.index(i, j)] as f64
-    }
-
-    pub fn set(&mut self, i: usize, j: usize, z: f64) {
-        let k = self.index(i, j);
-        self.data[k] = z as f32;
     }
 
     /// The XY centre of cell (i, j).

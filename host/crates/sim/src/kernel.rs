@@ -14,6 +14,9 @@ use std::f64::consts::{PI, TAU};
 
 use super::tool::{Cutter, Shape};
 
+/// A line whose squared XY length is at most this goes straight down or up.
+const PLUNGE: f64 = 1e-24;
+
 /// A move ready to cut: its geometry and its tool.
 #[derive(Clone, Copy, Debug)]
 pub struct Cut {
@@ -32,27 +35,72 @@ pub enum Geometry {
     Arc { c: [f64; 2], r: f64, start: f64, sweep: f64, z0: f64, dz: f64 },
 }
 
+/// A cut's shape and place but for its height, bit for bit (see [`Cut::key`]).
+pub type Key = [u64; 11];
+
 impl Cut {
+    /// The line from `a` to `b`, written one way whichever way the tool goes
+    /// (a plunge and its retract, a move and its return: the same swept
+    /// volume), so that a repeat is the same cut to the bit.
     pub fn line(a: [f64; 3], b: [f64; 3], cutter: Cutter) -> Cut {
-        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let (a, b) = if (b[0], b[1], b[2]) < (a[0], a[1], a[2]) { (b, a) } else { (a, b) };
+        let mut d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let mut l2 = d[0] * d[0] + d[1] * d[1];
+        let mut a = a;
+        if l2 <= PLUNGE {
+            // Straight down or up: only where the tip goes lowest matters.
+            a[2] += d[2].min(0.0);
+            (d, l2) = ([0.0; 3], 0.0);
+        }
         let r = cutter.radius;
         Cut {
-            geometry: Geometry::Line { a, d, l2: d[0] * d[0] + d[1] * d[1] },
+            geometry: Geometry::Line { a, d, l2 },
             cutter,
-            lo: [a[0].min(b[0]) - r, a[1].min(b[1]) - r],
-            hi: [a[0].max(b[0]) + r, a[1].max(b[1]) + r],
+            lo: [a[0].min(a[0] + d[0]) - r, a[1].min(a[1] + d[1]) - r],
+            hi: [a[0].max(a[0] + d[0]) + r, a[1].max(a[1] + d[1]) + r],
         }
     }
 
-    /// The X interval of row `y` the tool may reach (conservative), or `None`.
+    /// The lowest the tool's tip goes during the move: no cell under it ends lower.
     #[inline]
-    pub fn row(&self, y: f64) -> Option<(f64, f64)> {
+    pub fn floor(&self) -> f64 {
+        match self.geometry {
+            Geometry::Line { a, d, .. } => a[2] + d[2].min(0.0),
+            Geometry::Arc { z0, dz, .. } => z0 + dz.min(0.0),
+        }
+    }
+
+    /// What makes the cut what it is but its height, and that height (the
+    /// Z it is written from): of two cuts with the same key, the one written
+    /// higher lowers no cell below what the other leaves, rounding included
+    /// (every height the kernel gives is that Z plus terms the two share).
+    pub fn key(&self) -> (Key, f64) {
+        let (kind, g, z) = match self.geometry {
+            Geometry::Line { a, d, .. } => (0, [a[0], a[1], d[0], d[1], d[2], 0.0, 0.0], a[2]),
+            Geometry::Arc { c, r, start, sweep, z0, dz } => (1, [c[0], c[1], r, start, sweep, dz, 0.0], z0),
+        };
+        let (shape, slope) = match self.cutter.shape {
+            Shape::Flat => (0, 0.0),
+            Shape::Ball => (1, 0.0),
+            Shape::Cone { slope } => (2, slope),
+        };
+        let mut key = [kind, 0, 0, 0, 0, 0, 0, 0, self.cutter.radius.to_bits(), shape, slope.to_bits()];
+        for (k, v) in key[1..8].iter_mut().zip(g) {
+            *k = v.to_bits();
+        }
+        (key, z)
+    }
+
+    /// The X intervals of row `y` the tool may reach (conservative): for a
+    /// line one, for an arc the ring it sweeps, which a row may cross twice.
+    #[inline]
+    pub fn row(&self, y: f64) -> [Option<(f64, f64)>; 2] {
         let r = self.cutter.radius;
         match self.geometry {
             Geometry::Line { a, d, .. } => {
                 let (t0, t1) = if d[1].abs() < 1e-12 {
                     if (y - a[1]).abs() > r {
-                        return None;
+                        return [None, None];
                     }
                     (0.0, 1.0)
                 } else {
@@ -60,12 +108,30 @@ impl Cut {
                     (u.min(v).max(0.0), u.max(v).min(1.0))
                 };
                 if t0 > t1 {
-                    return None;
+                    return [None, None];
                 }
                 let (x0, x1) = (a[0] + t0 * d[0], a[0] + t1 * d[0]);
-                Some((x0.min(x1) - r, x0.max(x1) + r))
+                [Some((x0.min(x1) - r, x0.max(x1) + r)), None]
             }
-            Geometry::Arc { .. } => Some((self.lo[0], self.hi[0])),
+            Geometry::Arc { c, r: ra, .. } => {
+                // A hair wider than the ring, so that rounding loses no cell on its edge.
+                let slack = 1e-9 * (ra + r);
+                let (outer, inner, dy) = (ra + r + slack, ra - r - slack, y - c[1]);
+                if dy.abs() > outer {
+                    return [None, None];
+                }
+                let clip = |lo: f64, hi: f64| {
+                    let (lo, hi) = (lo.max(self.lo[0]), hi.min(self.hi[0]));
+                    (lo <= hi).then_some((lo, hi))
+                };
+                let xo = (outer * outer - dy * dy).sqrt();
+                if inner > dy.abs() {
+                    let xi = (inner * inner - dy * dy).sqrt();
+                    [clip(c[0] - xo, c[0] - xi), clip(c[0] + xi, c[0] + xo)]
+                } else {
+                    [clip(c[0] - xo, c[0] + xo), None]
+                }
+            }
         }
     }
 
@@ -86,7 +152,7 @@ fn line_low(a: [f64; 3], d: [f64; 3], l2: f64, cutter: &Cutter, px: f64, py: f64
     let r2 = r * r;
     let (ux, uy) = (px - a[0], py - a[1]);
     let dz = d[2];
-    if l2 <= 1e-24 {
+    if l2 <= PLUNGE {
         // A plunge (or a move along Z only).
         let e2 = ux * ux + uy * uy;
         if e2 > r2 {
@@ -225,6 +291,50 @@ mod tests {
                         (exact - dense).abs() < 1e-4 || (exact.is_infinite() && dense.is_infinite()),
                         "{shape:?} {start} {sweep} at {p:?}: {exact} vs {dense}"
                     );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_retract_is_its_plunge_and_a_move_back_is_the_move() {
+        let cutter = Cutter { radius: 0.5, shape: Shape::Ball };
+        for (a, b) in [([1.0, 2.0, 3.0], [1.0, 2.0, -1.0]), ([0.0, 0.0, 0.0], [2.0, -1.0, -0.5])] {
+            let (there, back) = (Cut::line(a, b, cutter), Cut::line(b, a, cutter));
+            assert_eq!(there.key(), back.key());
+            for p in [[1.0, 2.0], [1.2, 2.3], [1.0, 0.0], [0.5, -0.3]] {
+                assert_eq!(there.low(p[0], p[1]).to_bits(), back.low(p[0], p[1]).to_bits(), "{a:?}-{b:?} at {p:?}");
+            }
+        }
+        // Straight down: where the tip goes lowest, whatever the height it came from.
+        let plunge = Cut::line([1.0, 2.0, 3.0], [1.0, 2.0, -1.0], cutter);
+        assert_eq!(plunge.key().1, -1.0);
+        assert_eq!(plunge.low(1.0, 2.0), -1.0);
+        assert_eq!(plunge.floor(), -1.0);
+    }
+
+    #[test]
+    fn an_arcs_rows_hold_every_point_it_cuts_and_not_the_ring_inside() {
+        let cutter = Cutter { radius: 0.4, shape: Shape::Ball };
+        for (start, sweep) in [(0.3, 2.0), (1.0, -4.0), (-2.0, TAU), (0.0, 1e-9)] {
+            let cut = Cut {
+                geometry: Geometry::Arc { c: [1.0, 1.0], r: 2.0, start, sweep, z0: 0.0, dz: -0.5 },
+                cutter,
+                lo: [-1.4; 2],
+                hi: [3.4; 2],
+            };
+            for j in 0..=240 {
+                let y = -1.4 + j as f64 * 0.02;
+                let rows = cut.row(y);
+                for i in 0..=240 {
+                    let x = -1.4 + i as f64 * 0.02;
+                    let inside = rows.iter().flatten().any(|&(lo, hi)| lo <= x && x <= hi);
+                    if cut.low(x, y).is_finite() {
+                        assert!(inside, "{start} {sweep}: ({x}, {y}) is cut but in no row interval {rows:?}");
+                    }
+                    if (x - 1.0).hypot(y - 1.0) < 2.0 - 0.4 - 1e-6 {
+                        assert!(!inside, "{start} {sweep}: ({x}, {y}) is inside the ring but in {rows:?}");
+                    }
                 }
             }
         }

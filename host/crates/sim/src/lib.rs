@@ -17,11 +17,11 @@ pub mod tool;
 use rayon::prelude::*;
 
 pub use field::HeightField;
-use field::TILE;
+use field::{BLOCK, BLOCKS, TILE};
 use ger_core::config::{Config, Tool};
 use ger_core::diag::Diagnostic;
 use ger_core::statement::{Plane, Statement};
-use kernel::{Cut, Geometry};
+use kernel::{Cut, Geometry, Key};
 pub use path::{Move, Point, Segment, Step, Walker};
 pub use tool::{Cutter, Shape};
 
@@ -219,20 +219,30 @@ impl<'c> Tracker<'c> {
 
 /// Cuts per batch: enough to keep every core busy, few enough to stay small.
 const BATCH: usize = 1 << 15;
+/// Tile entries per batch (a cut has one for each tile it reaches): however
+/// wide the cuts, a batch's bins stay this small.
+const BIN_ENTRIES: usize = 1 << 20;
+/// Cuts remembered to recognise a repeat (direct-mapped by the cut's key).
+const RECENT: usize = 1 << 10;
 
 /// Material removal in progress.
 pub struct Simulation {
     field: HeightField,
+    frame: Frame,
     batch: Vec<Cut>,
-    bins: Vec<Vec<u32>>,
+    /// The batch's (tile, cut) pairs, in the order the cuts came.
+    entries: Vec<(u32, u32)>,
     /// How finely arcs that are not cut exactly are split into lines.
     tolerance: f64,
     moves: u64,
+    /// Cuts made lately, by a hash of their key, with the height each was made at:
+    /// a cut with the same key made no lower removes nothing.
+    recent: Vec<Option<(Key, f64)>>,
     /// When inspecting (for the verifier): the tag of the move each cut of the batch belongs to.
     tags: Option<Vec<u32>>,
     /// What the cuts flushed so far touched, not yet taken by the caller.
     contacts: Vec<Contact>,
-    /// The tag of the last cut flushed: a move may have more cuts to come, the moves before it do not.
+    /// Every move tagged below this has been cut and has reported.
     settled_below: u32,
 }
 
@@ -263,6 +273,30 @@ struct Frame {
     clamp: f32,
 }
 
+impl Frame {
+    /// The lowest a cell can end after `cut`: the tool's lowest point, or the
+    /// stock's bottom where cells stop there. A cell at or below it keeps its height.
+    fn reach(&self, cut: &Cut) -> f32 {
+        (cut.floor() as f32).max(self.clamp)
+    }
+
+    /// The cells along X whose centres lie in [lo, hi].
+    fn columns(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
+        cells_between(lo, hi, self.x0, self.cx, self.nx)
+    }
+
+    /// The cells along Y whose centres lie in [lo, hi].
+    fn rows(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
+        cells_between(lo, hi, self.y0, self.cy, self.ny)
+    }
+}
+
+fn cells_between(lo: f64, hi: f64, origin: f64, cell: f64, n: usize) -> Option<(usize, usize)> {
+    let a = ((lo - origin) / cell - 0.5).ceil().max(0.0);
+    let b = ((hi - origin) / cell - 0.5).floor().min(n as f64 - 1.0);
+    (a <= b).then_some((a as usize, b as usize))
+}
+
 impl Simulation {
     /// Uncut stock at `cell` resolution, unless its height field would take more than `limit` bytes.
     pub fn new(stock: Stock, cell: f64, limit: u64) -> Result<Simulation, Refusal> {
@@ -271,13 +305,24 @@ impl Simulation {
             return Err(Refusal::TooBig(TooBig { needed, limit, finest: stock.finest_cell(limit) }));
         }
         let field = HeightField::new(stock, cell).map_err(|_| Refusal::OutOfMemory { needed })?;
-        let bins = vec![Vec::new(); field.tiles_x * field.tiles_y];
+        let frame = Frame {
+            x0: field.stock.min[0],
+            y0: field.stock.min[1],
+            cx: field.cell,
+            cy: field.cell_y(),
+            nx: field.nx,
+            ny: field.ny,
+            floor: field.stock.min[2] as f32,
+            clamp: field.stock.min[2] as f32,
+        };
         Ok(Simulation {
             tolerance: field.cell / 20.0,
             field,
+            frame,
             batch: Vec::with_capacity(BATCH),
-            bins,
+            entries: Vec::new(),
             moves: 0,
+            recent: vec![None; RECENT],
             tags: None,
             contacts: Vec::new(),
             settled_below: 0,
@@ -291,6 +336,7 @@ impl Simulation {
     /// the moves before it left.
     pub fn inspecting(mut self) -> Simulation {
         self.tags = Some(Vec::with_capacity(BATCH));
+        self.frame.clamp = f32::NEG_INFINITY;
         self
     }
 
@@ -315,7 +361,9 @@ impl Simulation {
 
     /// [`Simulation::cut`], and when inspecting, reports what the move
     /// touched under `tag` (tags must not decrease), once its batch is cut.
-    /// False when the move is nowhere near the stock (it will report nothing).
+    /// False when the move cannot remove anything (it will report nothing):
+    /// it is above or beside the stock, over material already cut lower, or
+    /// a repeat of a cut made lately (or of one made lower).
     pub fn cut_tagged(&mut self, segment: &Segment, cutter: &Cutter, tag: u32) -> bool {
         self.moves += 1;
         let (lo, hi) = segment.bounds();
@@ -330,7 +378,7 @@ impl Simulation {
         {
             return false;
         }
-        match *segment {
+        let cuts = match *segment {
             Segment::Line { from, to } => self.push(Cut::line(from, to, *cutter), tag),
             Segment::Arc { from, to, centre, plane: Plane::XY, radius, start, sweep }
                 if from[2] == to[2] || cutter.shape == Shape::Flat =>
@@ -348,92 +396,116 @@ impl Simulation {
                     lo: [lo[0] - r, lo[1] - r],
                     hi: [hi[0] + r, hi[1] + r],
                 };
-                self.push(cut, tag);
+                self.push(cut, tag)
             }
             // Helices cut by ball and cone tools, and arcs in XZ and YZ: short lines
             // within a twentieth of a cell of the arc, each cut exactly.
             Segment::Arc { .. } => {
                 let n = segment.pieces(self.tolerance);
                 let mut a = segment.from();
+                let mut any = false;
                 for k in 1..=n {
                     let b = if k == n { segment.to() } else { segment.at(k as f64 / n as f64) };
-                    self.push(Cut::line(a, b, *cutter), tag);
+                    any |= self.push(Cut::line(a, b, *cutter), tag);
                     a = b;
+                }
+                any
+            }
+        };
+        if let Some(tags) = &self.tags {
+            // The move is all in: what is not waiting in the batch has reported.
+            self.settled_below = tags.first().copied().unwrap_or(tag + 1);
+        }
+        cuts
+    }
+
+    /// Bins `cut` into the tiles it may lower; false if there are none.
+    fn push(&mut self, cut: Cut, tag: u32) -> bool {
+        let (key, z) = cut.key();
+        let slot = &mut self.recent[recent_slot(&key)];
+        match slot {
+            Some((seen, lowest)) if *seen == key && *lowest <= z => return false,
+            _ => *slot = Some((key, z)),
+        }
+        let frame = &self.frame;
+        let (Some((i0, i1)), Some((j0, j1))) = (frame.columns(cut.lo[0], cut.hi[0]), frame.rows(cut.lo[1], cut.hi[1]))
+        else {
+            return false;
+        };
+        // A tile whose every cell is already at or below the tool's lowest point keeps them all.
+        let floor = frame.reach(&cut);
+        let k = self.batch.len() as u32;
+        let before = self.entries.len();
+        for ty in j0 / TILE..=j1 / TILE {
+            for tx in i0 / TILE..=i1 / TILE {
+                let t = ty * self.field.tiles_x + tx;
+                if self.field.tile_tops[t] > floor {
+                    self.entries.push((t as u32, k));
                 }
             }
         }
-        true
-    }
-
-    fn push(&mut self, cut: Cut, tag: u32) {
+        if self.entries.len() == before {
+            return false;
+        }
         self.batch.push(cut);
         if let Some(tags) = &mut self.tags {
             tags.push(tag);
         }
-        if self.batch.len() == BATCH {
+        if self.batch.len() == BATCH || self.entries.len() >= BIN_ENTRIES {
             self.flush();
         }
+        true
     }
 
-    fn frame(&self) -> Frame {
-        let f = &self.field;
-        Frame {
-            x0: f.stock.min[0],
-            y0: f.stock.min[1],
-            cx: f.cell,
-            cy: f.cell_y(),
-            nx: f.nx,
-            ny: f.ny,
-            floor: f.stock.min[2] as f32,
-            clamp: if self.tags.is_some() { f32::NEG_INFINITY } else { f.stock.min[2] as f32 },
-        }
-    }
-
-    /// Cuts the batch: each tile, in parallel, takes the cuts that reach it.
+    /// Cuts the batch: each tile, in parallel, takes the cuts that reach it, in program order.
     fn flush(&mut self) {
         if self.batch.is_empty() {
             return;
         }
-        let frame = self.frame();
-        let tiles_x = self.field.tiles_x;
-        for bin in &mut self.bins {
-            bin.clear();
+        let frame = self.frame;
+        let field = &mut self.field;
+        let tiles_x = field.tiles_x;
+        // The entries sorted by tile (a counting sort, so each tile keeps its cuts' order).
+        let mut starts = vec![0u32; field.tile_tops.len() + 1];
+        for &(t, _) in &self.entries {
+            starts[t as usize + 1] += 1;
         }
-        let span = |lo: f64, hi: f64, origin: f64, cell: f64, n: usize| -> Option<(usize, usize)> {
-            let a = ((lo - origin) / cell - 0.5).ceil().max(0.0);
-            let b = ((hi - origin) / cell - 0.5).floor().min(n as f64 - 1.0);
-            (a <= b).then_some((a as usize, b as usize))
-        };
-        for (k, cut) in self.batch.iter().enumerate() {
-            let (Some((i0, i1)), Some((j0, j1))) = (
-                span(cut.lo[0], cut.hi[0], frame.x0, frame.cx, frame.nx),
-                span(cut.lo[1], cut.hi[1], frame.y0, frame.cy, frame.ny),
-            ) else {
-                continue;
-            };
-            for ty in j0 / TILE..=j1 / TILE {
-                for tx in i0 / TILE..=i1 / TILE {
-                    self.bins[ty * tiles_x + tx].push(k as u32);
-                }
-            }
+        for t in 1..starts.len() {
+            starts[t] += starts[t - 1];
         }
+        let mut order = vec![0u32; self.entries.len()];
+        let mut next = starts.clone();
+        for &(t, k) in &self.entries {
+            order[next[t as usize] as usize] = k;
+            next[t as usize] += 1;
+        }
+        self.entries.clear();
         let batch = &self.batch;
-        let tiles = self.field.data.par_chunks_mut(TILE * TILE).zip(self.bins.par_iter()).enumerate();
+        let order = &order;
+        let tiles = field
+            .data
+            .par_chunks_mut(TILE * TILE)
+            .zip(field.block_tops.par_chunks_mut(BLOCKS))
+            .zip(field.tile_tops.par_iter_mut())
+            .zip(starts.par_windows(2))
+            .enumerate()
+            .map(move |(t, (((cells, blocks), top), range))| {
+                let tile = Tile { cells, blocks, top, i_base: (t % tiles_x) * TILE, j_base: (t / tiles_x) * TILE };
+                (tile, &order[range[0] as usize..range[1] as usize])
+            });
         match &mut self.tags {
-            None => tiles.for_each(|(t, (tile, bin))| {
-                let (tx, ty) = (t % tiles_x, t / tiles_x);
-                for &k in bin {
-                    cut_tile(&batch[k as usize], tile, tx * TILE, ty * TILE, &frame, &span);
+            None => tiles.for_each(|(mut tile, cuts)| {
+                for &k in cuts {
+                    tile.cut(&batch[k as usize], &frame);
                 }
             }),
             Some(tags) => {
                 // Each tile lists what each of its cuts touched; a cut's contact is the worst over its tiles.
                 let touched: Vec<Vec<(u32, Touch)>> = tiles
-                    .map(|(t, (tile, bin))| {
-                        let (tx, ty) = (t % tiles_x, t / tiles_x);
+                    .map(|(mut tile, cuts)| {
                         let mut touched = Vec::new();
-                        for &k in bin {
-                            let touch = cut_tile(&batch[k as usize], tile, tx * TILE, ty * TILE, &frame, &span);
+                        for &k in cuts {
+                            let touch = tile.cut(&batch[k as usize], &frame);
                             if touch.depth > 0.0 || touch.below > 0.0 {
                                 touched.push((k, touch));
                             }
@@ -457,7 +529,6 @@ impl Simulation {
                         _ => self.contacts.push(Contact { tag, depth: touch.depth, below: touch.below }),
                     }
                 }
-                self.settled_below = tags.last().copied().unwrap_or(self.settled_below);
                 tags.clear();
             }
         }
@@ -466,6 +537,9 @@ impl Simulation {
 
     /// Cuts the batch now, so that every move cut so far has reported its contact.
     pub fn settle(&mut self) {
+        if let Some(&last) = self.tags.as_ref().and_then(|tags| tags.last()) {
+            self.settled_below = last + 1;
+        }
         self.flush();
     }
 
@@ -480,6 +554,15 @@ impl Simulation {
         self.flush();
         self.field
     }
+}
+
+/// Where a key lives in [`Simulation::recent`]: a multiplicative hash of its words.
+fn recent_slot(key: &Key) -> usize {
+    let mut h = 0u64;
+    for &word in key {
+        h = (h.rotate_left(5) ^ word).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+    (h >> 32) as usize % RECENT
 }
 
 /// What a cut did to the cells of one tile.
@@ -498,36 +581,113 @@ impl Touch {
     }
 }
 
-fn cut_tile(
-    cut: &Cut,
-    tile: &mut [f32],
+/// One tile of the field, as a thread cutting it holds it.
+struct Tile<'f> {
+    cells: &'f mut [f32],
+    /// The highest cell of each block.
+    blocks: &'f mut [f32],
+    /// The highest cell of the tile.
+    top: &'f mut f32,
     i_base: usize,
     j_base: usize,
-    frame: &Frame,
-    span: &impl Fn(f64, f64, f64, f64, usize) -> Option<(usize, usize)>,
-) -> Touch {
-    let mut touch = Touch::default();
-    let j_end = (j_base + TILE).min(frame.ny);
-    let i_end = (i_base + TILE).min(frame.nx);
-    let Some((j0, j1)) = span(cut.lo[1], cut.hi[1], frame.y0, frame.cy, frame.ny) else { return touch };
-    for j in j0.max(j_base)..=j1.min(j_end - 1) {
-        let y = frame.y0 + (j as f64 + 0.5) * frame.cy;
-        let Some((xlo, xhi)) = cut.row(y) else { continue };
-        let Some((i0, i1)) = span(xlo, xhi, frame.x0, frame.cx, frame.nx) else { continue };
-        let row = &mut tile[(j - j_base) * TILE..][..TILE];
-        for i in i0.max(i_base)..=i1.min(i_end - 1) {
-            let x = frame.x0 + (i as f64 + 0.5) * frame.cx;
-            let z = cut.low(x, y) as f32;
-            let cell = &mut row[i - i_base];
-            if z < *cell {
-                let old = *cell;
-                touch.depth = touch.depth.max(old - z.max(frame.floor));
-                touch.below = touch.below.max(old.min(frame.floor) - z);
-                *cell = z.max(frame.clamp);
+}
+
+/// The cells of a block row that one row of cells takes from a cut: up to two runs of columns.
+type Runs = [Option<(usize, usize)>; 2];
+
+impl Tile<'_> {
+    /// Lowers the cells `cut` reaches, passing over each block whose highest
+    /// cell is no higher than the tool's tip ever goes: the kernel never
+    /// answers below [`Cut::floor`] (every term it adds to the tip's height
+    /// is at least zero), so such a block keeps every cell.
+    fn cut(&mut self, cut: &Cut, frame: &Frame) -> Touch {
+        let mut touch = Touch::default();
+        let floor = frame.reach(cut);
+        if *self.top <= floor {
+            return touch;
+        }
+        let j_end = (self.j_base + TILE).min(frame.ny);
+        let i_end = (self.i_base + TILE).min(frame.nx);
+        let Some((j0, j1)) = frame.rows(cut.lo[1], cut.hi[1]) else { return touch };
+        let (j0, j1) = (j0.max(self.j_base), j1.min(j_end - 1));
+        if j0 > j1 {
+            return touch;
+        }
+        let side = TILE / BLOCK;
+        let mut lowered = false;
+        for bj in (j0 - self.j_base) / BLOCK..=(j1 - self.j_base) / BLOCK {
+            // Each row's runs of cells, in tile columns, and the columns of them all.
+            let mut runs: [Runs; BLOCK] = [[None; 2]; BLOCK];
+            let (mut c0, mut c1) = (usize::MAX, 0);
+            for (r, row_runs) in runs.iter_mut().enumerate() {
+                let j = self.j_base + bj * BLOCK + r;
+                if j < j0 || j > j1 {
+                    continue;
+                }
+                let y = frame.y0 + (j as f64 + 0.5) * frame.cy;
+                for (run, interval) in row_runs.iter_mut().zip(cut.row(y)) {
+                    let Some((i0, i1)) = interval.and_then(|(lo, hi)| frame.columns(lo, hi)) else { continue };
+                    let (i0, i1) = (i0.max(self.i_base), i1.min(i_end - 1));
+                    if i0 <= i1 {
+                        *run = Some((i0 - self.i_base, i1 - self.i_base));
+                        c0 = c0.min(i0 - self.i_base);
+                        c1 = c1.max(i1 - self.i_base);
+                    }
+                }
+            }
+            if c0 > c1 {
+                continue;
+            }
+            // The highest cell of each block of this block row: if none is above
+            // the floor, the row is passed over; each block whose highest cell
+            // is lowered finds its new one after.
+            let tops: [f32; TILE / BLOCK] = std::array::from_fn(|bi| self.blocks[bj * side + bi]);
+            if tops[c0 / BLOCK..=c1 / BLOCK].iter().all(|&top| top <= floor) {
+                continue;
+            }
+            let mut topped = [false; TILE / BLOCK];
+            for (r, row_runs) in runs.iter().enumerate() {
+                let y = frame.y0 + ((self.j_base + bj * BLOCK + r) as f64 + 0.5) * frame.cy;
+                let row = &mut self.cells[(bj * BLOCK + r) * TILE..][..TILE];
+                for &(i0, i1) in row_runs.iter().flatten() {
+                    for (i, cell) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
+                        let old = *cell;
+                        if old <= floor {
+                            continue;
+                        }
+                        let x = frame.x0 + ((self.i_base + i) as f64 + 0.5) * frame.cx;
+                        let z = cut.low(x, y) as f32;
+                        if z < old {
+                            topped[i / BLOCK] |= old >= tops[i / BLOCK];
+                            touch.depth = touch.depth.max(old - z.max(frame.floor));
+                            touch.below = touch.below.max(old.min(frame.floor) - z);
+                            *cell = z.max(frame.clamp);
+                        }
+                    }
+                }
+            }
+            for (bi, _) in topped.iter().enumerate().filter(|(_, topped)| **topped) {
+                self.blocks[bj * side + bi] = self.highest_in_block(bi, bj, i_end, j_end);
+                lowered = true;
             }
         }
+        if lowered {
+            *self.top = self.blocks.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        }
+        touch
     }
-    touch
+
+    /// The highest cell of block (bi, bj) that lies in the stock.
+    fn highest_in_block(&self, bi: usize, bj: usize, i_end: usize, j_end: usize) -> f32 {
+        let mut highest = f32::NEG_INFINITY;
+        for r in bj * BLOCK..(bj * BLOCK + BLOCK).min(j_end - self.j_base) {
+            let row = &self.cells[r * TILE..][..TILE];
+            for &z in &row[bi * BLOCK..(bi * BLOCK + BLOCK).min(i_end - self.i_base)] {
+                highest = highest.max(z);
+            }
+        }
+        highest
+    }
 }
 
 #[cfg(test)]

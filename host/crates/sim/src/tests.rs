@@ -184,3 +184,96 @@ fn a_margin_stock_is_the_box_of_the_cut_below_zero() {
     bounds.add(&Segment::Line { from: [0.0; 3], to: [1.0, 1.0, 0.5] }, None);
     assert_eq!(bounds.stock(0.1), Stock { min: [-0.1, -0.1, -0.1], max: [1.1, 1.1, 0.0] });
 }
+
+/// Plunges, their retracts, repeats, deeper repeats, slanted and level lines
+/// wandering over a stock of 4 x 2 tiles (some through its bottom), from a
+/// fixed linear congruential sequence.
+fn wandering_moves() -> Vec<Segment> {
+    let mut state = 12345u64;
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut moves = Vec::new();
+    let mut at = [1.0, 0.5, 0.2];
+    for _ in 0..60 {
+        let to = match (next() * 5.0) as usize {
+            0 => [at[0], at[1], -0.6 * next()],
+            1 => [at[0], at[1], 0.2],
+            2 => [2.0 * next(), next(), at[2]],
+            3 => [2.0 * next(), next(), -0.3 * next()],
+            _ => {
+                // Back along the last move, or down it again a little deeper.
+                let last = *moves.last().unwrap_or(&Segment::Line { from: at, to: at });
+                let from = last.from();
+                if next() < 0.5 {
+                    from
+                } else {
+                    [from[0], from[1], from[2] - 0.01]
+                }
+            }
+        };
+        moves.push(Segment::Line { from: at, to });
+        at = to;
+    }
+    moves
+}
+
+#[test]
+fn passing_over_cut_cells_and_repeats_leaves_what_every_move_cut() {
+    let stock = Stock { min: [0.0, 0.0, -0.5], max: [2.0, 1.0, 0.0] };
+    let moves = wandering_moves();
+    for cutter in [Cutter { radius: 0.15, shape: Shape::Ball }, Cutter { radius: 0.2, shape: Shape::Flat }] {
+        let mut sim = Simulation::new(stock, 0.01, 1 << 30).unwrap();
+        for segment in &moves {
+            sim.cut(segment, &cutter);
+        }
+        let field = sim.finish();
+        assert_eq!((field.nx, field.ny), (200, 100));
+        for j in 0..field.ny {
+            for i in 0..field.nx {
+                let [x, y] = field.centre(i, j);
+                // Each move on its own, straight down by hand, the others by the kernel.
+                let lowest = moves.iter().fold(f64::INFINITY, |low, segment| {
+                    let (from, to) = (segment.from(), segment.to());
+                    let off = (x - from[0]).hypot(y - from[1]);
+                    let z = if from[0] == to[0] && from[1] == to[1] {
+                        if off <= cutter.radius {
+                            from[2].min(to[2]) + cutter.profile(off)
+                        } else {
+                            f64::INFINITY
+                        }
+                    } else {
+                        Cut::line(from, to, cutter).low(x, y)
+                    };
+                    low.min(z)
+                });
+                let want = lowest.clamp(stock.min[2], stock.max[2]);
+                let got = field.get(i, j);
+                assert!((got - want).abs() < 1e-6, "{cutter:?} cell ({i}, {j}) at ({x}, {y}): {got} vs {want}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_repeated_cut_removes_nothing_and_reports_nothing_but_a_deeper_one_cuts() {
+    let stock = Stock { min: [0.0, 0.0, -1.0], max: [1.0, 1.0, 0.0] };
+    let cutter = Cutter { radius: 0.3, shape: Shape::Flat };
+    let mut sim = Simulation::new(stock, 0.01, 1 << 30).unwrap().inspecting();
+    let (up, down, deeper) = ([0.5, 0.5, 0.5], [0.5, 0.5, -0.2], [0.5, 0.5, -0.4]);
+    let line = |from, to| Segment::Line { from, to };
+    let cut: Vec<bool> = [line(up, down), line(down, up), line(up, down), line(down, up), line(up, deeper)]
+        .iter()
+        .enumerate()
+        .map(|(tag, segment)| sim.cut_tagged(segment, &cutter, tag as u32))
+        .collect();
+    assert_eq!(cut, [true, false, false, false, true]);
+    sim.settle();
+    let contacts: Vec<(u32, f32)> = sim.take_contacts().iter().map(|c| (c.tag, c.depth)).collect();
+    assert_eq!(contacts, [(0, 0.2), (4, 0.2)]);
+    assert_eq!(sim.settled_below(), 5);
+    let field = sim.finish();
+    let centre = field.get(50, 50);
+    assert!((centre + 0.4).abs() < 1e-6, "{centre}");
+}
