@@ -8,14 +8,14 @@
 #      cell: the cost the cells really cut set);
 # each with [stock] size given and with the stock found from the program.
 #
-#   bench/cliffs.sh [MOVES]     (default 2000)
+#   bench/cliffs.sh [MOVES]     (default 2000; GER=path times another build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=${1:-2000}
 out=bench/out
 mkdir -p "$out"
-cargo build --release -q -p ger
-ger=$PWD/target/release/ger
+if [ -z "${GER:-}" ]; then cargo build --release -q -p ger; fi
+ger=${GER:-$PWD/target/release/ger}
 best_cpu() { # NAME COMMAND... : best CPU seconds of 3, with its wall seconds and peak MB
   local name=$1 best="" line
   shift

@@ -6,10 +6,11 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use ger::config::Config;
-use ger::expand::{Call, Limits, WasmWizards, Wizards};
-use ger::passes::{translate, Event, Library, Options, LAST_STAGE};
-use ger::statement::WizardArg;
+use ger_core::config::Config;
+use ger_core::passes::{translate, Event, Library, Options, LAST_STAGE};
+use ger_core::statement::WizardArg;
+use ger_core::wizard::{Call, Wizards};
+use ger_wasm::{Limits, WasmWizards};
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
@@ -22,7 +23,7 @@ fn runtime(dir: &Path, config: &Config) -> WasmWizards {
 /// One call of `name` with `args`, at the state of an empty program.
 fn call(wizards: &mut WasmWizards, config: &Config, name: &str, args: &[f64]) {
     let args: Vec<WizardArg> = args.iter().map(|&a| WizardArg::Number(a)).collect();
-    let probe = ger::state::probe(config.units);
+    let probe = ger_core::state::probe(config.units);
     let mut state = probe.borrow().call_state(config, 1);
     state.feed = Some(100.0);
     let call = Call { name, args: &args, span: Default::default() };

@@ -11,18 +11,23 @@
 # host/fuzz/corpus/TARGET/ (not committed) and used again by the next run.
 set -euo pipefail
 fuzz="$(cd "$(dirname "$0")" && pwd)"
-repo="$(cd "$fuzz/../.." && pwd)"
 targets=(lex parse translate config view_request)
 if [ $# -gt 0 ] && [[ $1 != -* ]]; then
   targets=("$1")
   shift
 fi
 
-# Every crate but ger and the targets is built as `cargo test` builds it, in
-# the same target folder, so only those two are compiled again (sancov-rustc.sh).
-export CARGO_TARGET_DIR="$repo/target"
-export RUSTC_WRAPPER="$fuzz/sancov-rustc.sh"
-cargo build --manifest-path "$fuzz/Cargo.toml" --locked --bins
+# The coverage instrumentation cargo-fuzz asks for, all stable flags (no
+# sanitizer: that part is nightly). An explicit --target keeps RUSTFLAGS off
+# build scripts and proc macros, which run in cargo without libFuzzer.
+host="$(rustc -vV | sed -n 's/^host: //p')"
+coverage=(-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4
+  -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table
+  -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing)
+export RUSTFLAGS="${RUSTFLAGS:-} ${coverage[*]}"
+export CARGO_TARGET_DIR="$fuzz/target"
+cargo build --manifest-path "$fuzz/Cargo.toml" --locked --release --bins --target "$host"
+bin="$CARGO_TARGET_DIR/$host/release"
 "$fuzz/seeds.sh"
 
 for target in "${targets[@]}"; do
@@ -39,7 +44,7 @@ for target in "${targets[@]}"; do
   log="$fuzz/artifacts/$target.log"
   # -max_len: real programs are up to megabytes; mutating a 64 KiB prefix finds as much, faster.
   set +e
-  "$CARGO_TARGET_DIR/debug/$target" -runs="${FUZZ_RUNS:-10000}" -seed=1 -timeout=10 -rss_limit_mb=1024 \
+  "$bin/$target" -runs="${FUZZ_RUNS:-10000}" -seed=1 -timeout=10 -rss_limit_mb=1024 \
     -max_len=65536 -print_final_stats=1 -artifact_prefix="$fuzz/artifacts/$target-" "$@" \
     "$fuzz/corpus/$target" "$fuzz/corpus/seeds/$seeds" 2>&1 | tee "$log" |
     grep -E --line-buffered '^(stat::|Done|INFO: seed corpus|#[0-9]+[[:space:]]+(pulse|INITED|DONE))'

@@ -86,6 +86,19 @@ fn the_json_report_has_its_documented_shape() {
     let (report, status) = json("tests/check/plunge.ngc", &[]);
     assert_eq!((status, report["warnings"].as_u64()), (Some(0), Some(1)));
 
+    // Each tool says what it is and where it came from: the config file, a comment, the default.
+    let (report, _) = json("tests/check/default_tool_clean.ngc", &[]);
+    assert_valid(&validator, &report);
+    let tool = &report["summary"]["tools"][0];
+    assert_eq!((tool["kind"].as_str(), tool["diameter"].as_f64()), (Some("endmill"), Some(6.0)));
+    assert_eq!(tool["source"], serde_json::json!({ "from": "comment", "line": 2 }));
+    let (report, status) = json("tests/check/default_tool.ngc", &[]);
+    assert_valid(&validator, &report);
+    assert_eq!((status, report["diagnostics"][0]["rule"].as_str()), (Some(0), Some("default-tool")));
+    assert_eq!(report["summary"]["tools"][0]["source"], serde_json::json!({ "from": "default" }));
+    let (report, _) = json("tests/check/plunge.ngc", &[]);
+    assert_eq!(report["summary"]["tools"][0]["source"], serde_json::json!({ "from": "config", "file": "plunge.toml" }));
+
     // The schema is not a formality: a report with a field renamed fails it.
     let mut broken = report.clone();
     let summary = broken["summary"].as_object_mut().unwrap();
@@ -153,6 +166,15 @@ fn programs_meant_to_be_clean_have_no_findings() {
         let text = std::fs::read_to_string(&program).unwrap();
         if !starts_spindle(&text) {
             args.extend(["--allow".to_string(), "spindle-off".to_string()]);
+        }
+        // A case with no tool table is cut with the default tool, which is a
+        // warning of its own (tests/check/default_tool.ngc): not what these test.
+        let config = [program.with_extension("toml"), program.with_file_name("ger.toml")]
+            .iter()
+            .find_map(|path| std::fs::read_to_string(path).ok())
+            .unwrap_or_default();
+        if !config.contains("[[tools]]") {
+            args.extend(["--allow".to_string(), "default-tool".to_string()]);
         }
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let output = check(&program, &args);

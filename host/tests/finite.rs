@@ -8,11 +8,11 @@
 #[path = "support/plain.rs"]
 mod plain;
 
-use ger::config::Config;
-use ger::emit::Emitter;
-use ger::expand::NoWizards;
-use ger::passes::{parse, translate, Event, Library, Options, LAST_STAGE};
-use ger::statement::{Dialect, Units};
+use ger_core::config::Config;
+use ger_core::emit::Emitter;
+use ger_core::passes::{parse, translate, Event, Library, Options, LAST_STAGE};
+use ger_core::statement::{Dialect, Units};
+use ger_core::wizard::NoWizards;
 use proptest::prelude::*;
 
 /// A number as a program may write it: mostly ordinary, sometimes at or past

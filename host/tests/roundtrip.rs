@@ -6,11 +6,11 @@
 //! incremental mode from a centre offset and an angle, so the end lies on the
 //! circle whatever the tool's absolute position.
 
-use ger::config::{Config, WorkOffsets};
-use ger::emit::{preamble, Emitter};
-use ger::expand::NoWizards;
-use ger::passes::{translate, Event, Library, Options, LAST_STAGE};
-use ger::statement::Units;
+use ger_core::config::{Config, WorkOffsets};
+use ger_core::emit::{preamble, Emitter};
+use ger_core::passes::{translate, Event, Library, Options, LAST_STAGE};
+use ger_core::statement::Units;
+use ger_core::wizard::NoWizards;
 use proptest::prelude::*;
 
 /// Translates `program`; panics on any diagnostic (generated programs are valid).
@@ -188,7 +188,7 @@ proptest! {
     /// as written, and translate to themselves.
     #[test]
     fn splines_translate_to_output_that_translates_to_itself(program in spline_program(), machine in machines()) {
-        let lenient = Config { dialect: ger::statement::Dialect::Lenient.into(), ..machine.clone() };
+        let lenient = Config { dialect: ger_core::statement::Dialect::Lenient.into(), ..machine.clone() };
         let once = translated(&program, &lenient);
         let twice = translated(&once, &machine);
         prop_assert_eq!(without_line_numbers(&once), without_line_numbers(&twice), "program:\n{}", program);

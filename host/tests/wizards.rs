@@ -6,10 +6,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use ger::config::Config;
-use ger::emit::Emitter;
-use ger::expand::{Limits, WasmWizards};
-use ger::passes::{translate, Event, Library, Options, LAST_STAGE};
+use ger_core::config::Config;
+use ger_core::emit::Emitter;
+use ger_core::passes::{translate, Event, Library, Options, LAST_STAGE};
+use ger_wasm::{Limits, WasmWizards};
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)

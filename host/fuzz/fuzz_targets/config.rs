@@ -1,7 +1,7 @@
 //! `ger.toml` parsing on any text: a config or a diagnostic, never a panic.
 #![no_main]
 
-use ger::config::Config;
+use ger_core::config::Config;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|text: &[u8]| {

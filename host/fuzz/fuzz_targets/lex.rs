@@ -2,8 +2,8 @@
 //! come to the end of the input without a panic.
 #![no_main]
 
-use ger::lex::Lexer;
-use ger::statement::Dialect;
+use ger_core::lex::Lexer;
+use ger_core::statement::Dialect;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|program: &[u8]| {

@@ -1,9 +1,9 @@
 //! The lexer and parser, in both dialects, on any bytes, as `ger parse` runs them.
 #![no_main]
 
-use ger::config::DialectConfig;
-use ger::passes::parse;
-use ger::statement::Dialect;
+use ger_core::config::DialectConfig;
+use ger_core::passes::parse;
+use ger_core::statement::Dialect;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|program: &[u8]| {

@@ -6,11 +6,11 @@
 #[path = "../../tests/support/plain.rs"]
 mod plain;
 
-use ger::config::Config;
-use ger::emit::Emitter;
-use ger::expand::NoWizards;
-use ger::passes::{parse, translate, Event, Library, Options, LAST_STAGE};
-use ger::statement::{Dialect, Units};
+use ger_core::config::Config;
+use ger_core::emit::Emitter;
+use ger_core::passes::{parse, translate, Event, Library, Options, LAST_STAGE};
+use ger_core::statement::{Dialect, Units};
+use ger_core::wizard::NoWizards;
 use libfuzzer_sys::fuzz_target;
 
 /// Events looked at per translation. A short program can mean an endless

@@ -10,11 +10,11 @@ use serde::Serialize;
 use super::render::{bounds, input_size, memory_limit, resolution, simulation, walk_events, Progress};
 use super::report::{plain_error, Report};
 use super::{load_config, styled, CommonArgs, Input};
-use crate::check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
-use crate::config::Config;
-use crate::diag::{Diagnostic, Severity};
-use crate::passes::Event;
-use crate::sim::Stock;
+use ger_check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
+use ger_core::config::Config;
+use ger_core::diag::{Diagnostic, Severity};
+use ger_core::passes::Event;
+use ger_sim::Stock;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {
@@ -41,7 +41,7 @@ pub(crate) struct CheckArgs {
     #[arg(long, value_enum, value_name = "WHAT")]
     deny: Option<Deny>,
     /// Do not make this check (repeatable): rapid-into-stock, spindle-off,
-    /// flute-length, plunge, below-stock, travel, arc-radius.
+    /// flute-length, plunge, below-stock, travel, arc-radius, default-tool.
     #[arg(long, value_name = "CHECK", value_parser = rule)]
     allow: Vec<Rule>,
     /// The side of a simulation cell, in machine units [default: the
@@ -72,7 +72,7 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
     // Without a size, the stock is where the program cuts: one pass to find it.
     let stock = match Stock::from_config(&config) {
         Some(stock) => stock,
-        None => bounds(&input, &config, &mut wizards, quiet).1.stock(config.stock_margin()),
+        None => bounds(&input, &config, &mut wizards, quiet).1.stock_for(&config),
     };
     let sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
         Ok(sim) => sim,
@@ -159,20 +159,35 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
         duration(s.run_time_seconds),
         s.rapid_rate
     );
+    // One line a tool: what it cut, what it is, and where the table got it.
     let tools: Vec<String> = s
         .tools
         .iter()
         .map(|t| {
-            format!(
+            let mut line = format!(
                 "T{} {:.d$} {unit} over {}",
                 t.number,
                 t.cutting_distance,
                 plural(t.moves as usize, "move"),
                 d = decimals
-            )
+            );
+            match (t.kind, t.diameter) {
+                (Some(kind), Some(diameter)) => {
+                    let _ = write!(line, ": {} {diameter:.d$} {unit}", kind.name(), d = decimals);
+                    if let Some(angle) = t.tip_angle {
+                        let _ = write!(line, " with a {angle}° point");
+                    }
+                    if let Some(source) = &t.source {
+                        let _ = write!(line, ", {source}");
+                    }
+                }
+                _ => line.push_str(": not in the tool table"),
+            }
+            line
         })
         .collect();
-    let _ = writeln!(out, "  tools     {}", if tools.is_empty() { "none".to_string() } else { tools.join(", ") });
+    let tools = if tools.is_empty() { "none".to_string() } else { tools.join("\n            ") };
+    let _ = writeln!(out, "  tools     {tools}");
     let codes: Vec<String> = s.codes.iter().map(|(code, n)| format!("{code} {n}")).collect();
     let _ = writeln!(out, "  codes     {}", codes.join(", "));
     if !s.problems.is_empty() {

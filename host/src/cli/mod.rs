@@ -4,7 +4,7 @@
 mod check;
 mod render;
 mod report;
-pub mod view;
+mod view;
 mod wizard;
 
 use std::fs::File;
@@ -13,15 +13,17 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::config::{locate, Config, DialectConfig, Step};
-use crate::diag::Diagnostic;
-use crate::emit::{preamble, Emitter};
-use crate::expand::{Limits, WasmWizards, Wizards};
-use crate::lex::{Lexed, Lexer, TokenKind};
-use crate::output::OutputFile;
-use crate::parse::parse;
-use crate::passes::{self, translate, Event, Library, Options, LAST_STAGE};
-use crate::statement::{Dialect, Units};
+use ger_core::config::{locate, Config, DialectConfig, Step, StockConfig};
+use ger_core::diag::Diagnostic;
+use ger_core::emit::{preamble, Emitter};
+use ger_core::lex::{Lexed, Lexer, TokenKind};
+use ger_core::parse::parse;
+use ger_core::passes::{self, translate, Event, Library, Options, LAST_STAGE};
+use ger_core::statement::{Dialect, Units};
+use ger_core::tools;
+use ger_core::wizard::Wizards;
+use ger_output::OutputFile;
+use ger_wasm::{Limits, WasmWizards};
 use report::{plain_error, read_error, Report};
 
 #[derive(Parser)]
@@ -217,6 +219,26 @@ impl Input {
         }
     }
 
+    /// The program's file, if it has one.
+    fn path(&self) -> Option<PathBuf> {
+        match self {
+            Input::File(path) => Some(path.clone()),
+            Input::Stdin(_) => None,
+            Input::Text { name, dir, .. } => Some(dir.join(name)),
+        }
+    }
+
+    /// The file `name` in the program's folder, named as the program's path
+    /// names that folder (`ger.toml` for `part.nc`, `jobs/ger.toml` for
+    /// `jobs/part.nc`), as messages show it.
+    fn beside(&self, name: impl AsRef<Path>) -> PathBuf {
+        match self {
+            Input::File(path) => path.with_file_name(name.as_ref()),
+            Input::Stdin(_) => name.as_ref().to_path_buf(),
+            Input::Text { dir, .. } => dir.join(name),
+        }
+    }
+
     fn dir(&self) -> PathBuf {
         match self {
             Input::File(path) => match path.parent() {
@@ -250,7 +272,7 @@ impl BufRead for FailingReader {
 fn config_path(args: &CommonArgs, input: &Input) -> Option<PathBuf> {
     match &args.config {
         Some(path) => Some(path.clone()),
-        None => Some(input.dir().join("ger.toml")).filter(|p| p.is_file()),
+        None => Some(input.beside("ger.toml")).filter(|p| p.is_file()),
     }
 }
 
@@ -270,15 +292,17 @@ fn config_error(args: &CommonArgs, input: &Input, steps: &[Step], message: &str)
 }
 
 /// The machine: `args.config`, or `ger.toml` beside the program. A bad one is
-/// an error rendered as rustc would (with colour when `styled`).
+/// an error rendered as rustc would (with colour when `styled`). The tools
+/// and stock the file leaves out come from the program (see [`ger_core::tools`]).
 fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config, String> {
-    let mut config = match config_path(args, input) {
-        None => Config::default(),
-        Some(path) => {
-            let name = path.display().to_string();
-            let text = std::fs::read_to_string(&path).map_err(|err| read_error(&name, &err))?;
-            Config::from_toml(&text).map_err(|diagnostic| config_diagnostic(&name, &text, diagnostic, styled))?
+    let path = config_path(args, input);
+    let name = path.as_ref().map(|path| path.display().to_string());
+    let mut config = match (&path, &name) {
+        (Some(path), Some(name)) => {
+            let text = std::fs::read_to_string(path).map_err(|err| read_error(name, &err))?;
+            Config::from_toml(&text).map_err(|diagnostic| config_diagnostic(name, &text, diagnostic, styled))?
         }
+        _ => Config::default(),
     };
     if args.lenient {
         config.dialect.name = Dialect::Lenient;
@@ -289,7 +313,43 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
             UnitsArg::Mm => Units::Mm,
         };
     }
+    let wanted = !config.has_tool_table() || config.stock == StockConfig::default();
+    let (project, described) = if wanted {
+        (project(input)?, tools::scan(input.open(), config.dialect.name))
+    } else {
+        (None, tools::ProgramTools::default())
+    };
+    let project = project.as_ref().map(|(name, project)| (name.as_str(), project));
+    tools::settle(&mut config, name.as_deref(), project, &described);
     Ok(config)
+}
+
+/// The CAMotics project of the program: `NAME.camotics` beside `NAME.nc`,
+/// else a project in its folder that lists it. Its name is as the program's
+/// folder is given; a bad one is an error, unless found by its list.
+fn project(input: &Input) -> Result<Option<(String, tools::camotics::Project)>, String> {
+    let Some(program) = input.path() else { return Ok(None) };
+    let own = program.with_extension("camotics");
+    if own.is_file() {
+        let name = own.display().to_string();
+        let text = std::fs::read_to_string(&own).map_err(|err| read_error(&name, &err))?;
+        let project = tools::camotics::parse(&text)
+            .map_err(|err| plain_error(&format!("bad CAMotics project {name}: {err}"), None))?;
+        return Ok(Some((name, project)));
+    }
+    let Some(file_name) = program.file_name().and_then(|n| n.to_str()) else { return Ok(None) };
+    let Ok(entries) = std::fs::read_dir(input.dir()) else { return Ok(None) };
+    let mut projects: Vec<PathBuf> = entries
+        .flatten()
+        .map(|entry| input.beside(entry.file_name()))
+        .filter(|path| path.extension().is_some_and(|e| e == "camotics") && path.is_file())
+        .collect();
+    projects.sort();
+    Ok(projects.into_iter().find_map(|path| {
+        let project = tools::camotics::parse(&std::fs::read_to_string(&path).ok()?).ok()?;
+        let listed = project.files.iter().any(|f| Path::new(f).file_name().is_some_and(|f| f == file_name));
+        listed.then(|| (path.display().to_string(), project))
+    }))
 }
 
 /// The subprograms of `input`, found by reading it again when a call names

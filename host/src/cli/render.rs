@@ -13,14 +13,14 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::report::{plain_error, Report};
 use super::{cannot_write, config_error, library, load_config, show, styled, CommonArgs, Input};
-use crate::config::{quoted, Bounds, Config, Step, MAX_MEMORY_MIB};
-use crate::expand::Wizards;
-use crate::output::OutputFile;
-use crate::passes::{translate, Event, Options, LAST_STAGE};
-use crate::pulses::Pulser;
-use crate::render::{label, mesh::Mesh, top, view};
-use crate::sim::{CutBounds, Point, Refusal, Simulation, Stock, Tracker};
-use crate::statement::{Statement, Units};
+use ger_core::config::{quoted, Bounds, Config, Step, MAX_MEMORY_MIB};
+use ger_core::passes::{translate, Event, Options, LAST_STAGE};
+use ger_core::statement::{Statement, Units};
+use ger_core::wizard::Wizards;
+use ger_output::OutputFile;
+use ger_render::{label, mesh::Mesh, top, view};
+use ger_sim::pulses::Pulser;
+use ger_sim::{CutBounds, Point, Refusal, Simulation, Stock, Tracker};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Format {
@@ -450,9 +450,9 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
             let (lo, hi) = path_box.unwrap_or(([0.0; 3], [1.0; 3]));
             let (mut image, projection) = view::blank(&camera, lo, hi);
             let mut painter = view::PathPainter::new(&mut image, projection);
-            let mut walker = crate::sim::Walker::new();
+            let mut walker = ger_sim::Walker::new();
             let report = walk(&input, &config, &mut wizards, None, |statement, _| {
-                if let Some(crate::sim::Step::Move(m)) = walker.step(statement) {
+                if let Some(ger_sim::Step::Move(m)) = walker.step(statement) {
                     painter.add(&m.segment, m.rapid);
                 }
                 true
@@ -462,7 +462,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
             return Ok(0);
         }
     }
-    let stock = stock.unwrap_or_else(|| bounds.stock(config.stock_margin()));
+    let stock = stock.unwrap_or_else(|| bounds.stock_for(&config));
 
     // The simulation.
     let mut sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
@@ -500,9 +500,9 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
             let (mut image, projection) = view::render(&field, &camera);
             if args.with_toolpath {
                 let mut painter = view::PathPainter::new(&mut image, projection);
-                let mut walker = crate::sim::Walker::new();
+                let mut walker = ger_sim::Walker::new();
                 walk(&input, &config, &mut wizards, None, |statement, _| {
-                    if let Some(crate::sim::Step::Move(m)) = walker.step(statement) {
+                    if let Some(ger_sim::Step::Move(m)) = walker.step(statement) {
                         painter.add(&m.segment, m.rapid);
                     }
                     true
@@ -537,8 +537,8 @@ pub(crate) fn pulses(args: &PulsesArgs) -> Result<i32, String> {
     let config = load_config(&args.common, &input, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let spu = args.steps_per_unit.unwrap_or(match config.units {
-        crate::statement::Units::Inch => 1000.0,
-        crate::statement::Units::Mm => 40.0,
+        ger_core::statement::Units::Inch => 1000.0,
+        ger_core::statement::Units::Mm => 40.0,
     });
     let stdout = io::stdout();
     let mut out = io::BufWriter::new(stdout.lock());
@@ -546,13 +546,13 @@ pub(crate) fn pulses(args: &PulsesArgs) -> Result<i32, String> {
     let _ = writeln!(out, "# {} steps per {unit}; a tick steps one or more axes; dir 1 is positive", spu);
     let _ = writeln!(out, "# tick\tline\tstep X Y Z\tdir X Y Z");
     let mut pulser = Pulser::new(spu);
-    let mut walker = crate::sim::Walker::new();
+    let mut walker = ger_sim::Walker::new();
     let mut tick = 0u64;
     let limit = args.limit.unwrap_or(u64::MAX);
     let mut broken = false;
     let bit = |b: bool| if b { '1' } else { '0' };
     let report = walk(&input, &config, &mut wizards, None, |statement, _| {
-        let Some(crate::sim::Step::Move(m)) = walker.step(statement) else { return true };
+        let Some(ger_sim::Step::Move(m)) = walker.step(statement) else { return true };
         pulser.segment(&m.segment, |p| {
             if tick >= limit {
                 return false;

@@ -10,7 +10,7 @@ use std::io::{self, BufRead};
 
 use annotate_snippets::{AnnotationKind, Group, Level, Renderer, Snippet};
 
-use crate::diag::{Diagnostic, Severity};
+use ger_core::diag::{Diagnostic, Severity};
 
 /// How many diagnostics are shown in full; past that they are only counted.
 const SHOWN: usize = 200;
@@ -91,7 +91,7 @@ fn read_lines(source: impl BufRead, wanted: &BTreeSet<u32>) -> HashMap<u32, Stri
     let Some(&last) = wanted.last() else {
         return found;
     };
-    let mut lines = crate::lex::Lines::new(source);
+    let mut lines = ger_core::lex::Lines::new(source);
     let mut raw = Vec::new();
     for line_no in 1..=last {
         match lines.read(&mut raw) {
@@ -167,7 +167,7 @@ pub fn read_error(path: &str, err: &io::Error) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::Span;
+    use ger_core::diag::Span;
 
     #[test]
     fn renders_like_rustc() {

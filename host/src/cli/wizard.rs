@@ -9,12 +9,12 @@ use clap::{Args, Subcommand};
 use notify::{Event, EventKind, RecursiveMode, Watcher};
 
 use super::{report::plain_error, CommonArgs, Input, WizardOptions};
-use crate::config::Config;
-use crate::diag::clip;
-use crate::expand::build::{self, Progress, Source};
-use crate::expand::catalog::{self, Catalog};
-use crate::expand::{Wizards, SHOWN_MESSAGE};
-use crate::output::OutputFile;
+use ger_core::config::Config;
+use ger_core::diag::clip;
+use ger_core::wizard::{Wizards, SHOWN_MESSAGE};
+use ger_output::OutputFile;
+use ger_wasm::build::{self, Progress, Source};
+use ger_wasm::catalog::{self, Catalog};
 
 #[derive(Subcommand)]
 pub enum WizardCommand {

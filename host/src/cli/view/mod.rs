@@ -6,11 +6,10 @@
 //! contract with the page, whose files `assets` serves.
 
 mod assets;
+mod guard;
 mod server;
 mod session;
 mod watch;
-
-pub use server::Guard;
 
 use std::io::Write;
 use std::net::{Ipv4Addr, TcpListener};

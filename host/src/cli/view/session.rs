@@ -16,14 +16,14 @@ use super::super::render::{bounds, simulation, walk_events};
 use super::super::report::{plain_error, read_error};
 use super::super::{load_config, Input};
 use super::ViewArgs;
-use crate::check::{Checker, Rule};
-use crate::diag::{Diagnostic, Severity, Span};
-use crate::emit::{preamble, Emitter};
-use crate::output::OutputFile;
-use crate::passes::Event;
-use crate::render::pieces::{self, Piece};
-use crate::sim::{HeightField, Step, Stock, Walker};
-use crate::statement::Statement;
+use ger_check::{Checker, Rule};
+use ger_core::diag::{Diagnostic, Severity, Span};
+use ger_core::emit::{preamble, Emitter};
+use ger_core::passes::Event;
+use ger_core::statement::Statement;
+use ger_output::OutputFile;
+use ger_render::pieces::{self, Piece};
+use ger_sim::{HeightField, Step, Stock, Walker};
 
 /// Above this many pieces the toolpath sent to the page is decimated.
 const MAX_PIECES: usize = 200_000;
@@ -324,7 +324,7 @@ fn read(file: &Path) -> Result<String, String> {
     std::fs::read_to_string(file).map_err(|err| format!("cannot read {}: {err}", file.display()))
 }
 
-/// Writes the file whole (see `crate::output`): never half-written, keeping its mode.
+/// Writes the file whole (see `ger_output`): never half-written, keeping its mode.
 fn write_whole(file: &Path, text: &[u8]) -> Result<(), String> {
     let mut output = OutputFile::create(file).map_err(|err| format!("cannot write {}: {err}", file.display()))?;
     output
@@ -366,7 +366,7 @@ fn make(args: &ViewArgs, program: &Program) -> Made {
     // Without a size, the stock is where the program cuts: one pass to find it (as `ger check`).
     let stock = Stock::from_config(&config).or_else(|| {
         let (_, cut, path_box) = bounds(&input, &config, &mut wizards, true);
-        path_box.map(|_| cut.stock(config.stock_margin()))
+        path_box.map(|_| cut.stock_for(&config))
     });
     made.cell = stock.map_or(1.0, |stock| args.resolution.unwrap_or(view_cell(&stock)));
     let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), args.memory_limit, &config) {
@@ -630,11 +630,11 @@ mod tests {
 
     #[test]
     fn statements_from_calls_belong_to_the_outermost_call() {
-        use crate::diag::Origin;
+        use ger_core::diag::Origin;
         // A wizard called at line 3 of subprogram O200, which the program calls at line 12.
         let subprogram = Arc::new(Origin { what: "O200".into(), call: Span::new(12, 1, 4), parent: None });
         let wizard = Arc::new(Origin { what: "Pocket".into(), call: Span::new(3, 1, 6), parent: Some(subprogram) });
-        let mut statement = Statement::new(crate::statement::Kind::End, Span::new(3, 1, 6));
+        let mut statement = Statement::new(ger_core::statement::Kind::End, Span::new(3, 1, 6));
         assert_eq!(outermost_line(&statement), 3);
         statement.origin = Some(wizard);
         assert_eq!(outermost_line(&statement), 12);

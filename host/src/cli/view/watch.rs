@@ -1,7 +1,8 @@
-//! Follows the files a session depends on (the program, its config, the
-//! wizards' `.wasm`) and tells the session when one changes. Folders are
-//! watched, not files: editors often save by writing a new file and renaming
-//! it over the old one, which a watch on the old file would not see.
+//! Follows the files a session depends on (the program, its config, a
+//! CAMotics project beside it, the wizards' `.wasm`) and tells the session
+//! when one changes. Folders are watched, not files: editors often save by
+//! writing a new file and renaming it over the old one, which a watch on the
+//! old file would not see.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -67,8 +68,13 @@ fn follow(mut watcher: RecommendedWatcher, events: &mpsc::Receiver<notify::Resul
             }
             for path in event.paths.iter().map(|p| canonical(p)) {
                 file |= path == program;
+                let beside = |folder: &Path, extension: &str| {
+                    path.parent() == Some(folder) && path.extension().is_some_and(|e| e == extension)
+                };
+                // A CAMotics project in the program's folder may give its tools and stock.
                 machine |= path == config
-                    || (path.parent() == Some(&wizards) && path.extension().is_some_and(|e| e == "wasm"));
+                    || beside(&wizards, "wasm")
+                    || program.parent().is_some_and(|folder| beside(folder, "camotics"));
             }
         }
         if file {
