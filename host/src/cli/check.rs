@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::render::{bounds, input_size, memory_limit, resolution, simulation, walk_events, Progress};
 use super::report::{plain_error, Report};
-use super::{load_config, styled, CommonArgs, Input};
+use super::{load_config, styled, CommonArgs, Input, Purpose};
 use ger_check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
@@ -65,7 +65,7 @@ fn rule(text: &str) -> Result<Rule, String> {
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input, styled())?;
+    let config = load_config(&args.common, &input, Purpose::Cut, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let quiet = args.quiet || args.format == Output::Json;
 

@@ -294,7 +294,17 @@ fn config_error(args: &CommonArgs, input: &Input, steps: &[Step], message: &str)
 /// The machine: `args.config`, or `ger.toml` beside the program. A bad one is
 /// an error rendered as rustc would (with colour when `styled`). The tools
 /// and stock the file leaves out come from the program (see [`ger_core::tools`]).
-fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config, String> {
+/// What a command does with the program. Only one that cuts a stock has a
+/// use for the stock a program describes, so only it reads the program for one.
+#[derive(Clone, Copy, PartialEq)]
+enum Purpose {
+    /// Translates it, or follows its path (`ger run`, `ger pulses`).
+    Translate,
+    /// Simulates it cutting a stock (`ger render`, `ger check`, `ger view`).
+    Cut,
+}
+
+fn load_config(args: &CommonArgs, input: &Input, purpose: Purpose, styled: bool) -> Result<Config, String> {
     let path = config_path(args, input);
     let name = path.as_ref().map(|path| path.display().to_string());
     let mut config = match (&path, &name) {
@@ -313,7 +323,8 @@ fn load_config(args: &CommonArgs, input: &Input, styled: bool) -> Result<Config,
             UnitsArg::Mm => Units::Mm,
         };
     }
-    let wanted = !config.has_tool_table() || config.stock == StockConfig::default();
+    let stock_wanted = purpose == Purpose::Cut && config.stock == StockConfig::default();
+    let wanted = !config.has_tool_table() || stock_wanted;
     let (project, described) = if wanted {
         (project(input)?, tools::scan(input.open(), config.dialect.name))
     } else {
@@ -446,7 +457,7 @@ fn run(args: &RunArgs) -> Result<i32, String> {
 }
 
 fn run_once(args: &RunArgs, input: &Input) -> Result<i32, String> {
-    let config = load_config(&args.common, input, styled())?;
+    let config = load_config(&args.common, input, Purpose::Translate, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     // Withheld: a failed run leaves no half-written output, and writes nothing to a terminal or pipe.
     let path = args.output.as_deref().unwrap_or(Path::new("-"));

@@ -12,7 +12,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::report::{plain_error, Report};
-use super::{cannot_write, config_error, library, load_config, show, styled, CommonArgs, Input};
+use super::{cannot_write, config_error, library, load_config, show, styled, CommonArgs, Input, Purpose};
 use ger_core::config::{quoted, Bounds, Config, Step, MAX_MEMORY_MIB};
 use ger_core::passes::{translate, Event, Options, LAST_STAGE};
 use ger_core::statement::{Statement, Units};
@@ -406,7 +406,7 @@ pub(super) fn usage_error(message: &str) -> Result<i32, String> {
 
 pub(crate) fn render(args: &RenderArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input, styled())?;
+    let config = load_config(&args.common, &input, Purpose::Cut, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let extension = args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let wants_view = args.view.is_some() || args.azimuth.is_some() || args.elevation.is_some();
@@ -534,7 +534,7 @@ fn three_digits(x: f64, round: fn(f64) -> f64) -> String {
 
 pub(crate) fn pulses(args: &PulsesArgs) -> Result<i32, String> {
     let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input, styled())?;
+    let config = load_config(&args.common, &input, Purpose::Translate, styled())?;
     let mut wizards = args.common.wizards.runtime(&config);
     let spu = args.steps_per_unit.unwrap_or(match config.units {
         ger_core::statement::Units::Inch => 1000.0,

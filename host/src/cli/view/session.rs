@@ -14,7 +14,7 @@ use tokio::sync::watch;
 
 use super::super::render::{bounds, simulation, walk_events};
 use super::super::report::{plain_error, read_error};
-use super::super::{load_config, Input};
+use super::super::{load_config, Input, Purpose};
 use super::ViewArgs;
 use ger_check::{Checker, Rule};
 use ger_core::diag::{Diagnostic, Severity, Span};
@@ -354,7 +354,7 @@ fn make(args: &ViewArgs, program: &Program) -> Made {
     let dir = program.file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
     let input = Input::Text { name: program.name.clone(), dir, text: program.text.clone() };
     let mut made = Made::default();
-    let config = match load_config(&args.common, &input, false) {
+    let config = match load_config(&args.common, &input, Purpose::Cut, false) {
         Ok(config) => config,
         Err(message) => {
             made.problems.push(message.trim_end().to_string());
