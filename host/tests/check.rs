@@ -1,5 +1,5 @@
 //! `ger check` as a user runs it: the JSON report against its documented
-//! schema (`docs/check.schema.json`), exit statuses, and no finding on any
+//! schema (`host/docs/check.schema.json`), exit statuses, and no finding on any
 //! program meant to be clean.
 
 use std::path::{Path, PathBuf};
@@ -31,7 +31,7 @@ fn json(program: &str, args: &[&str]) -> (Value, Option<i32>) {
 }
 
 fn schema() -> jsonschema::Validator {
-    let text = std::fs::read_to_string(root().join("docs/check.schema.json")).unwrap();
+    let text = std::fs::read_to_string(root().join("host/docs/check.schema.json")).unwrap();
     jsonschema::validator_for(&serde_json::from_str(&text).unwrap()).expect("the schema is a valid JSON Schema")
 }
 
@@ -136,7 +136,7 @@ const NOT_CLEAN: &[(&str, &str)] = &[
 #[test]
 fn programs_meant_to_be_clean_have_no_findings() {
     let mut programs = Vec::new();
-    collect(&root().join("examples"), &mut programs);
+    collect(&root().join("host/examples"), &mut programs);
     collect(&root().join("tests"), &mut programs);
     programs.sort();
     let mut checked = 0;
@@ -160,7 +160,7 @@ fn programs_meant_to_be_clean_have_no_findings() {
                 _ => {}
             }
         }
-        if relative.starts_with("examples") {
+        if relative.starts_with("host/examples") {
             args.extend(["--wizards".to_string(), root().join("wizards").display().to_string()]);
         }
         let text = std::fs::read_to_string(&program).unwrap();

@@ -1,11 +1,11 @@
 //! The browser test of `ger view`: the real server on a copy of
-//! `examples/pocket.ngc`, and a real headless Chromium driving the page
+//! `host/examples/pocket.ngc`, and a real headless Chromium driving the page
 //! (`tests/e2e/view.mjs`, with playwright-core from `tests/e2e/package-lock.json`).
 //!
 //! It needs node, npm and Chromium (`/usr/bin/chromium`, or `GER_CHROMIUM`).
 //! Without them it says loudly that it did not run, and under CI it fails
 //! (`support::peer_missing`).
-//! `UPDATE_SCREENSHOT=1` writes the screenshot to `docs/view.png`, the one the
+//! `UPDATE_SCREENSHOT=1` writes the screenshot to `host/docs/view.png`, the one the
 //! README shows.
 
 mod support;
@@ -73,8 +73,8 @@ fn the_page_in_chromium() {
     // The server edits and saves its program: give it a copy.
     let dir = tempfile::tempdir().unwrap();
     let program = dir.path().join("pocket.ngc");
-    std::fs::copy(root().join("examples/pocket.ngc"), &program).unwrap();
-    std::fs::copy(root().join("examples/ger.toml"), dir.path().join("ger.toml")).unwrap();
+    std::fs::copy(root().join("host/examples/pocket.ngc"), &program).unwrap();
+    std::fs::copy(root().join("host/examples/ger.toml"), dir.path().join("ger.toml")).unwrap();
 
     let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
         .arg("view")
@@ -106,7 +106,7 @@ fn the_page_in_chromium() {
         .to_string();
 
     let screenshot = if std::env::var("UPDATE_SCREENSHOT").is_ok_and(|v| v == "1") {
-        root().join("docs/view.png")
+        root().join("host/docs/view.png")
     } else {
         Path::new(env!("CARGO_TARGET_TMPDIR")).join("view.png")
     };

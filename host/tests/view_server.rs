@@ -1,5 +1,5 @@
 //! `ger view`'s server as the page uses it (the contract is
-//! `docs/view-api.md`): the real binary on a copy of a program in a
+//! `host/docs/view-api.md`): the real binary on a copy of a program in a
 //! temporary folder, spoken to in raw HTTP/1.1 over TCP.
 
 use std::io::{BufRead, BufReader, Read, Write};
@@ -131,11 +131,11 @@ impl Server {
     }
 }
 
-/// A copy of `examples/`'s pocket program and its machine in a folder of its own.
+/// A copy of `host/examples/`'s pocket program and its machine in a folder of its own.
 fn pocket_folder() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     for name in ["pocket.ngc", "ger.toml"] {
-        std::fs::copy(root().join("examples").join(name), dir.path().join(name)).unwrap();
+        std::fs::copy(root().join("host/examples").join(name), dir.path().join(name)).unwrap();
     }
     dir
 }
@@ -432,7 +432,7 @@ fn a_wizard_changed_on_disk_is_used_at_once() {
     let run = Command::new(env!("CARGO_BIN_EXE_ger"))
         .args(["run", "--wizards"])
         .arg(root().join("wizards"))
-        .arg(root().join("examples/pocket.ngc"))
+        .arg(root().join("host/examples/pocket.ngc"))
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));

@@ -1,5 +1,5 @@
 // The page's bench, in a real headless Chromium against a running `ger view`
-// (bench/view-page.sh starts the server and runs this).
+// (host/bench/view-page.sh starts the server and runs this).
 //
 //   node bench.mjs live URL PROGRAM [REPEATS]   keystroke → new version on screen; file written → on screen
 //   node bench.mjs load URL                     navigation → first full draw

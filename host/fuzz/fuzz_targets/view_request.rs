@@ -1,13 +1,10 @@
-//! `ger view`'s check of a request's head (`Guard::admit`, in the binary
-//! crate, compiled here from its file), on heads read from any bytes the way
-//! hyper reads them (httparse into http's types). A head hyper could not
-//! read is answered by hyper, not ger, so it is skipped.
+//! `ger view`'s check of a request's head (`ger_view::guard::Guard::admit`),
+//! on heads read from any bytes the way hyper reads them (httparse into
+//! http's types). A head hyper could not read is answered by hyper, not
+//! ger, so it is skipped.
 #![no_main]
 
-#[path = "../../src/cli/view/guard.rs"]
-mod guard;
-
-use guard::Guard;
+use ger_view::guard::Guard;
 use http::header::HOST;
 use http::{HeaderName, HeaderValue, Request, Version};
 use libfuzzer_sys::fuzz_target;

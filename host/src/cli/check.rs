@@ -1,26 +1,26 @@
 //! `ger check`: the translation's diagnostics and the verifier's, then a
 //! summary of what the program will do; as text for people or JSON for
-//! editors and CI scripts (the shape is `docs/check.schema.json`).
+//! editors and CI scripts (the shape is `host/docs/check.schema.json`).
 
 use std::fmt::Write as _;
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 
-use super::render::{bounds, input_size, memory_limit, resolution, simulation, walk_events, Progress};
-use super::report::{plain_error, Report};
-use super::{load_config, styled, CommonArgs, Input, Purpose};
-use ger_check::{Bounds, Checker, Finding, Rule, Summary, Verdict};
+use anyhow::{Context, Result};
+
+use super::render::{memory_limit, refused, resolution, Bar};
+use super::{styled, CommonArgs};
+use ger_check::{Bounds, Finding, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
-use ger_core::passes::Event;
-use ger_sim::Stock;
+use ger_engine::{Purpose, Report, Resolution};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {
     /// Diagnostics as rustc shows them, on stderr; the summary on stdout.
     Text,
-    /// One JSON document on stdout (see docs/check.schema.json).
+    /// One JSON document on stdout (see host/docs/check.schema.json).
     Json,
 }
 
@@ -56,39 +56,28 @@ pub(crate) struct CheckArgs {
     quiet: bool,
 }
 
-fn rule(text: &str) -> Result<Rule, String> {
-    Rule::from_name(text).ok_or_else(|| {
+fn rule(text: &str) -> Result<Rule> {
+    Rule::from_name(text).with_context(|| {
         let names: Vec<&str> = Rule::ALL.iter().map(|r| r.name()).collect();
         format!("not a check; the checks are {}", names.join(", "))
     })
 }
 
-pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
-    let input = Input::new(&args.common.file)?;
-    let config = load_config(&args.common, &input, Purpose::Cut, styled())?;
-    let mut wizards = args.common.wizards.runtime(&config);
-    let quiet = args.quiet || args.format == Output::Json;
+pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
+    let mut program = args.common.program(Purpose::Cut)?;
+    let source = program.source().clone();
+    let mut bar = Bar::new(args.quiet || args.format == Output::Json);
 
-    // Without a size, the stock is where the program cuts: one pass to find it.
-    let stock = match Stock::from_config(&config) {
-        Some(stock) => stock,
-        None => bounds(&input, &config, &mut wizards, quiet).1.stock_for(&config),
-    };
-    let sim = match simulation(stock, args.resolution, args.memory_limit, &config) {
+    // Without a size, the stock is where the program cuts: a pass to find it
+    // (its diagnostics come again from the check's own pass).
+    let (stock, _) = program.stock(&mut bar);
+    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let sim = match program.simulation(stock, asked) {
         Ok(sim) => sim,
-        Err(refused) => return refused.exit(&args.common, &input),
+        Err(err) => return refused(err, &args.common, &source),
     };
-    let mut checker = Checker::new(&config, sim, &args.allow);
-    let mut progress = Progress::new(input_size(&input), "checking", quiet);
-    walk_events(&input, &config, &mut wizards, Some(&mut progress), |event| {
-        match event {
-            Event::Statement(statement) => checker.statement(&statement),
-            Event::Diagnostic(diagnostic) => checker.translator(diagnostic),
-        }
-        true
-    });
-    progress.finish();
-    let mut verdict = checker.finish();
+    let (mut verdict, _) = program.check(sim, &args.allow, &mut bar);
+    let config = program.config();
     if args.deny == Some(Deny::Warnings) {
         for finding in &mut verdict.findings {
             finding.diagnostic.severity = Severity::Error;
@@ -102,13 +91,13 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32, String> {
                 report.add(finding.diagnostic.clone());
             }
             if !verdict.findings.is_empty() {
-                eprint!("{}", report.render(&input.name(), input.open(), styled()));
+                eprint!("{}", report.render(&source.name(), source.open(), styled()));
             }
-            print!("{}", summary_text(&input.name(), &verdict, &config));
+            print!("{}", summary_text(&source.name(), &verdict, config));
         }
         Output::Json => {
-            let json = serde_json::to_string_pretty(&JsonReport::new(&input.name(), &verdict))
-                .map_err(|err| plain_error(&format!("cannot write the report: {err}"), None))?;
+            let json = serde_json::to_string_pretty(&JsonReport::new(&source.name(), &verdict))
+                .context("cannot write the report")?;
             println!("{json}");
         }
     }

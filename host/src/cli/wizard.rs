@@ -8,10 +8,13 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 use notify::{Event, EventKind, RecursiveMode, Watcher};
 
-use super::{report::plain_error, CommonArgs, Input, WizardOptions};
+use super::error::{cannot_write, plain_error, with_help};
+use super::{CommonArgs, WizardOptions};
+use anyhow::{anyhow, bail, Context, Result};
 use ger_core::config::Config;
 use ger_core::diag::clip;
 use ger_core::wizard::{Wizards, SHOWN_MESSAGE};
+use ger_engine::Source as ProgramSource;
 use ger_output::OutputFile;
 use ger_wasm::build::{self, Progress, Source};
 use ger_wasm::catalog::{self, Catalog};
@@ -49,7 +52,7 @@ pub struct DirArg {
     dir: PathBuf,
 }
 
-pub fn main(command: WizardCommand) -> Result<i32, String> {
+pub fn main(command: WizardCommand) -> Result<i32> {
     match command {
         WizardCommand::New { name, dir } => new(&name, &dir.dir),
         WizardCommand::Build { names, dir } => build_named(&names, &dir.dir),
@@ -73,11 +76,11 @@ fn loud() -> Progress {
     Box::new(|message| eprintln!("   {message}..."))
 }
 
-fn scan(dir: &Path) -> Result<Catalog, String> {
-    catalog::scan(dir).map_err(|message| plain_error(&message, Some("give the wizards directory with --wizards DIR")))
+fn scan(dir: &Path) -> Result<Catalog> {
+    catalog::scan(dir).map_err(|message| with_help(message, "give the wizards directory with --wizards DIR"))
 }
 
-fn build_named(names: &[String], dir: &Path) -> Result<i32, String> {
+fn build_named(names: &[String], dir: &Path) -> Result<i32> {
     let mut targets = Vec::new();
     if names.is_empty() {
         let catalog = scan(dir)?;
@@ -105,7 +108,7 @@ fn build_named(names: &[String], dir: &Path) -> Result<i32, String> {
             Some((source, wasm)) => targets.push((source, wasm, dir.to_path_buf())),
             None => {
                 let help = format!("the wizard sources in {} are: {}", dir.display(), sources(&catalog).join(", "));
-                return Err(plain_error(&format!("no wizard source named `{name}` in {}", dir.display()), Some(&help)));
+                return Err(with_help(format!("no wizard source named `{name}` in {}", dir.display()), &help));
             }
         }
     }
@@ -127,7 +130,7 @@ fn sources(catalog: &Catalog) -> Vec<String> {
     catalog.entries().filter(|e| e.source.is_some()).map(|e| e.name.clone()).collect()
 }
 
-fn list(dir: &Path, no_build: bool) -> Result<i32, String> {
+fn list(dir: &Path, no_build: bool) -> Result<i32> {
     let catalog = scan(dir)?;
     let options = WizardOptions {
         dir: dir.to_path_buf(),
@@ -171,28 +174,27 @@ fn list(dir: &Path, no_build: bool) -> Result<i32, String> {
     Ok(i32::from(failed > 0))
 }
 
-fn new(name: &str, dir: &Path) -> Result<i32, String> {
+fn new(name: &str, dir: &Path) -> Result<i32> {
     if name.len() < 2 || !name.chars().all(|c| c.is_ascii_alphabetic()) {
         let help = "a program calls a wizard by a word of two or more letters, e.g. `Slot 40 3`";
-        return Err(plain_error(&format!("`{name}` cannot be a wizard's name"), Some(help)));
+        return Err(with_help(format!("`{name}` cannot be a wizard's name"), help));
     }
     let folder = dir.join(name.to_ascii_lowercase());
     if folder.exists() {
-        return Err(plain_error(&format!("{} already exists", folder.display()), None));
+        bail!("{} already exists", folder.display());
     }
     let sdk = Path::new(env!("CARGO_MANIFEST_DIR")).join("../wizard-sdk");
     let sdk = sdk.canonicalize().map_err(|err| {
         let help = "`ger wizard new` uses the wizard-sdk folder of the ger source tree it was built from";
-        plain_error(&format!("cannot find the wizard SDK at {}: {err}", sdk.display()), Some(help))
+        with_help(format!("cannot find the wizard SDK at {}: {err}", sdk.display()), help)
     })?;
     let write = |path: &Path, text: &str| {
         std::fs::create_dir_all(path.parent().expect("a file in a folder"))
             .and_then(|()| OutputFile::create(path))
             .and_then(|mut output| output.write_all(text.as_bytes()).and_then(|()| output.commit()))
-            .map_err(|err| super::cannot_write(path, &err))
+            .with_context(|| cannot_write(path))
     };
-    std::fs::create_dir_all(&folder)
-        .map_err(|err| plain_error(&format!("cannot create {}: {err}", folder.display()), None))?;
+    std::fs::create_dir_all(&folder).with_context(|| format!("cannot create {}", folder.display()))?;
     let absolute = folder.canonicalize().unwrap_or_else(|_| folder.clone());
     let sdk_path = relative(&absolute, &sdk);
     write(&folder.join("Cargo.toml"), &manifest(&name.to_ascii_lowercase(), &sdk_path))?;
@@ -286,13 +288,9 @@ export_wizard!({name});
 
 /// Runs `once`, then again after every change to the program, its config
 /// or the wizards directory, until interrupted.
-pub(super) fn watch(
-    input: &Input,
-    common: &CommonArgs,
-    mut once: impl FnMut() -> Result<i32, String>,
-) -> Result<i32, String> {
-    let Input::File(program) = input else {
-        return Err(plain_error("--watch needs a program file, not standard input", None));
+pub(super) fn watch(input: &ProgramSource, common: &CommonArgs, mut once: impl FnMut() -> Result<i32>) -> Result<i32> {
+    let ProgramSource::File(program) = input else {
+        bail!("--watch needs a program file, not standard input");
     };
     let config = match &common.config {
         Some(path) => path.clone(),
@@ -300,8 +298,7 @@ pub(super) fn watch(
     };
     let wizards = &common.wizards.dir;
     let (tx, rx) = mpsc::channel::<notify::Result<Event>>();
-    let mut watcher = notify::recommended_watcher(tx)
-        .map_err(|err| plain_error(&format!("cannot watch for changes: {err}"), None))?;
+    let mut watcher = notify::recommended_watcher(tx).context("cannot watch for changes")?;
     // Folders, not files: editors often save by replacing the file.
     let program_dir = input.dir();
     let mut watched = vec![(program_dir.clone(), RecursiveMode::NonRecursive)];
@@ -312,9 +309,7 @@ pub(super) fn watch(
         watched.push((wizards.clone(), RecursiveMode::Recursive));
     }
     for (path, mode) in &watched {
-        watcher
-            .watch(path, *mode)
-            .map_err(|err| plain_error(&format!("cannot watch {}: {err}", path.display()), None))?;
+        watcher.watch(path, *mode).with_context(|| format!("cannot watch {}", path.display()))?;
     }
     let canonical = |p: &Path| p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
     let (program, config, wizards) = (canonical(program), canonical(&config), canonical(wizards));
@@ -332,8 +327,8 @@ pub(super) fn watch(
         })
     };
     loop {
-        if let Err(message) = once() {
-            eprint!("{message}");
+        if let Err(err) = once() {
+            eprint!("{}", super::error::render(&err));
         }
         // A .wasm written during the run is a wizard that run built: not a
         // change to react to. Any other change during the run is.
@@ -346,7 +341,7 @@ pub(super) fn watch(
         }
         eprintln!("ger: watching {} and {} for changes (Ctrl-C stops)", program.display(), wizards.display());
         while !changed {
-            let event = rx.recv().map_err(|_| plain_error("the file watcher stopped", None))?;
+            let event = rx.recv().map_err(|_| anyhow!("the file watcher stopped"))?;
             changed = matters(event, &relevant);
             // Saves come in bursts: let them settle, then run once.
             std::thread::sleep(Duration::from_millis(100));

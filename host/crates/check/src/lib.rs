@@ -103,7 +103,7 @@ impl<'c> Checker<'c> {
             sim: sim.inspecting(),
             allowed,
             tolerance: config.units.arc_tolerance() / 10.0,
-            travel: config.travel_box(),
+            travel: config.travel_box().map(|(lo, hi)| (lo.into(), hi.into())),
             spindle: Spindle::Never,
             stops: 0,
             reported_stop: None,

@@ -11,16 +11,16 @@ use ger_core::statement::{Distance, Kind, Statement};
 use ger_core::tools::ToolSource;
 use ger_sim::{HeightField, Point, Segment};
 
-/// A box, in machine coordinates.
+/// A box, in machine coordinates (as JSON: each corner `[x, y, z]`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Bounds {
-    pub min: Point,
-    pub max: Point,
+    pub min: [f64; 3],
+    pub max: [f64; 3],
 }
 
 impl Bounds {
     fn grow(bounds: &mut Option<Bounds>, lo: Point, hi: Point) {
-        let b = bounds.get_or_insert(Bounds { min: lo, max: hi });
+        let b = bounds.get_or_insert(Bounds { min: lo.to_array(), max: hi.to_array() });
         for i in 0..3 {
             b.min[i] = b.min[i].min(lo[i]);
             b.max[i] = b.max[i].max(hi[i]);
@@ -158,7 +158,8 @@ impl Summary {
                 let z = field.get(i, j);
                 if z < top - tolerance {
                     let [x, y] = field.centre(i, j);
-                    Bounds::grow(&mut self.cut_box, [x - half_x, y - half_y, z], [x + half_x, y + half_y, top]);
+                    let (lo, hi) = (Point::new(x - half_x, y - half_y, z), Point::new(x + half_x, y + half_y, top));
+                    Bounds::grow(&mut self.cut_box, lo, hi);
                 }
             }
         }

@@ -70,7 +70,7 @@ fn a_clean_program_has_no_findings_and_its_summary_adds_up() {
     // The cut: the plunge and the slot, 3 mm either side, from Z-2 up to the top
     // (the tool's edges fall on the 0.1 mm cells' edges).
     let cut = s.cut_box.unwrap();
-    let near = |a: Point, b: Point| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-9);
+    let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-9);
     assert!(near(cut.min, [7.0, 7.0, -2.0]) && near(cut.max, [53.0, 13.0, 0.0]), "{cut:?}");
     let path = s.path_box.unwrap();
     assert_eq!((path.min, path.max), ([0.0, 0.0, -2.0], [50.0, 10.0, 5.0]));

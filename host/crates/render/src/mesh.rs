@@ -39,7 +39,7 @@ impl<'f> Mesh<'f> {
     pub fn top(&self, i: usize, j: usize) -> Point {
         let f = self.field;
         let s = &f.stock;
-        [coord(i, f.nx, s.min[0], s.max[0]), coord(j, f.ny, s.min[1], s.max[1]), f.get(i, j).max(self.floor)]
+        Point::new(coord(i, f.nx, s.min[0], s.max[0]), coord(j, f.ny, s.min[1], s.max[1]), f.get(i, j).max(self.floor))
     }
 
     /// The border's vertices, counter-clockwise seen from above.
@@ -78,12 +78,12 @@ impl<'f> Mesh<'f> {
         }
         let z0 = self.field.bottom();
         let s = &self.field.stock;
-        let centre = [(s.min[0] + s.max[0]) / 2.0, (s.min[1] + s.max[1]) / 2.0, z0];
+        let centre = ((s.min + s.max) / 2.0).with_z(z0);
         let corners: Vec<(usize, usize)> = self.border().collect();
         for (k, &(i, j)) in corners.iter().enumerate() {
             let (qi, qj) = corners[(k + 1) % corners.len()];
             let (pt, qt) = (self.top(i, j), self.top(qi, qj));
-            let (pb, qb) = ([pt[0], pt[1], z0], [qt[0], qt[1], z0]);
+            let (pb, qb) = (pt.with_z(z0), qt.with_z(z0));
             f([pb, qb, qt]);
             f([pb, qt, pt]);
             f([centre, qb, pb]);
@@ -107,8 +107,8 @@ impl<'f> Mesh<'f> {
                 return;
             }
             let n = normal(a, b, c);
-            for (k, v) in [n, a, b, c].iter().flatten().enumerate() {
-                record[k * 4..k * 4 + 4].copy_from_slice(&(*v as f32).to_le_bytes());
+            for (k, v) in [n, a, b, c].iter().flat_map(|p| p.to_array()).enumerate() {
+                record[k * 4..k * 4 + 4].copy_from_slice(&(v as f32).to_le_bytes());
             }
             result = out.write_all(&record);
         });
@@ -119,12 +119,11 @@ impl<'f> Mesh<'f> {
 
 /// The unit normal of a counter-clockwise triangle.
 pub fn normal(a: Point, b: Point, c: Point) -> Point {
-    let (u, v) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
-    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    let n = (b - a).cross(c - a);
+    let len = n.length();
     if len == 0.0 {
-        [0.0; 3]
+        Point::ZERO
     } else {
-        n.map(|x| x / len)
+        n / len
     }
 }

@@ -3,6 +3,8 @@
 //! pieces that lie within a tolerance of a straighter path. Only what is
 //! drawn is thinned; the simulation always takes every move.
 
+use glam::Vec3;
+
 use ger_sim::{Move, Point, Segment};
 
 /// What a piece of the path is, by the numbers the viewer's format uses.
@@ -25,7 +27,7 @@ pub struct Piece {
 }
 
 fn narrow(p: Point) -> [f32; 3] {
-    p.map(|v| v as f32)
+    p.as_vec3().to_array()
 }
 
 /// Appends the pieces of move `m` (made by output line `line`): a line is one
@@ -105,12 +107,11 @@ fn simplify(run: &[Piece], tolerance: f64, out: &mut Vec<Piece>) {
 
 /// The distance from `p` to the segment from `a` to `b`.
 fn distance_to_segment(p: [f32; 3], a: [f32; 3], b: [f32; 3]) -> f64 {
-    let d: [f64; 3] = std::array::from_fn(|i| f64::from(b[i]) - f64::from(a[i]));
-    let v: [f64; 3] = std::array::from_fn(|i| f64::from(p[i]) - f64::from(a[i]));
-    let length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    let t = if length2 > 0.0 { ((v[0] * d[0] + v[1] * d[1] + v[2] * d[2]) / length2).clamp(0.0, 1.0) } else { 0.0 };
-    let e: [f64; 3] = std::array::from_fn(|i| v[i] - t * d[i]);
-    (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt()
+    let wide = |q: [f32; 3]| Vec3::from(q).as_dvec3();
+    let (d, v) = (wide(b) - wide(a), wide(p) - wide(a));
+    let length2 = d.length_squared();
+    let t = if length2 > 0.0 { (v.dot(d) / length2).clamp(0.0, 1.0) } else { 0.0 };
+    (v - t * d).length()
 }
 
 #[cfg(test)]
@@ -126,14 +127,14 @@ mod tests {
     #[test]
     fn a_line_is_one_piece_and_an_arc_keeps_within_the_tolerance() {
         let mut out = Vec::new();
-        split(&feed(Segment::Line { from: [0.0; 3], to: [1.0, 2.0, 3.0] }), 7, 0.1, &mut out);
+        split(&feed(Segment::Line { from: Point::ZERO, to: Point::new(1.0, 2.0, 3.0) }), 7, 0.1, &mut out);
         assert_eq!(out, [Piece { from: [0.0; 3], to: [1.0, 2.0, 3.0], line: 7, kind: PieceKind::Line }]);
 
         // A half circle of radius 10 about the origin, from (10, 0) to (-10, 0), counter-clockwise.
         let arc = Segment::Arc {
-            from: [10.0, 0.0, 0.0],
-            to: [-10.0, 0.0, 0.0],
-            centre: [0.0; 3],
+            from: Point::new(10.0, 0.0, 0.0),
+            to: Point::new(-10.0, 0.0, 0.0),
+            centre: Point::ZERO,
             plane: Plane::XY,
             radius: 10.0,
             start: 0.0,

@@ -58,30 +58,22 @@ pub struct Projection {
     offset: (f64, f64),
 }
 
-fn dot(a: Point, b: Point) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 impl Projection {
     /// Fits the box `lo`..`hi` in the picture (with a margin), times the zoom.
     pub fn fit(camera: &Camera, lo: Point, hi: Point) -> Projection {
         let (az, el) = (camera.azimuth.to_radians(), camera.elevation.to_radians());
-        let toward = [az.sin() * el.cos(), -az.cos() * el.cos(), el.sin()];
-        let right = [az.cos(), az.sin(), 0.0];
-        let up = [
-            toward[1] * right[2] - toward[2] * right[1],
-            toward[2] * right[0] - toward[0] * right[2],
-            toward[0] * right[1] - toward[1] * right[0],
-        ];
+        let toward = Point::new(az.sin() * el.cos(), -az.cos() * el.cos(), el.sin());
+        let right = Point::new(az.cos(), az.sin(), 0.0);
+        let up = toward.cross(right);
         let mut p = Projection { right, up, toward, scale: 1.0, offset: (0.0, 0.0) };
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for k in 0..8 {
-            let corner = [
+            let corner = Point::new(
                 if k & 1 == 0 { lo[0] } else { hi[0] },
                 if k & 2 == 0 { lo[1] } else { hi[1] },
                 if k & 4 == 0 { lo[2] } else { hi[2] },
-            ];
-            let (x, y) = (dot(corner, right), dot(corner, up));
+            );
+            let (x, y) = (corner.dot(right), corner.dot(up));
             (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
         }
         let (w, h) = ((x1 - x0).max(1e-9), (y1 - y0).max(1e-9));
@@ -99,9 +91,9 @@ impl Projection {
     #[inline]
     pub fn project(&self, p: Point) -> (f64, f64, f64) {
         (
-            self.offset.0 + dot(p, self.right) * self.scale,
-            self.offset.1 - dot(p, self.up) * self.scale,
-            dot(p, self.toward),
+            self.offset.0 + p.dot(self.right) * self.scale,
+            self.offset.1 - p.dot(self.up) * self.scale,
+            p.dot(self.toward),
         )
     }
 }
@@ -116,18 +108,17 @@ pub fn render(field: &HeightField, camera: &Camera) -> (Image, Projection) {
     let mut colour = vec![WHITE; (w * h) as usize];
     let mut depth = vec![f32::NEG_INFINITY; (w * h) as usize];
     let light = {
-        let l: Point = std::array::from_fn(|i| 0.65 * fine.toward[i] + 0.55 * fine.up[i] - 0.35 * fine.right[i]);
-        let len = dot(l, l).sqrt();
-        l.map(|x| x / len)
+        let l = 0.65 * fine.toward + 0.55 * fine.up - 0.35 * fine.right;
+        l / l.length()
     };
     let cut_below = field.top() - (field.top() - field.bottom()) * 1e-6;
     let mesh = Mesh::new(field);
     mesh.for_each(|tri| {
         let mut n = normal(tri[0], tri[1], tri[2]);
-        if dot(n, fine.toward) < 0.0 {
-            n = n.map(|x| -x);
+        if n.dot(fine.toward) < 0.0 {
+            n = -n;
         }
-        let lit = 0.3 + 0.7 * dot(n, light).max(0.0);
+        let lit = 0.3 + 0.7 * n.dot(light).max(0.0);
         let cut = tri.iter().any(|p| p[2] < cut_below) && n[2].abs() > 1e-3 || tri.iter().all(|p| p[2] < cut_below);
         let base = if cut { CUT } else { STOCK };
         let shade = base.map(|c| (c as f64 * lit).round().min(255.0) as u8);

@@ -12,6 +12,7 @@
 
 use std::f64::consts::{PI, TAU};
 
+use super::path::Point;
 use super::tool::{Cutter, Shape};
 
 /// A line whose squared XY length is at most this goes straight down or up.
@@ -30,7 +31,7 @@ pub struct Cut {
 #[derive(Clone, Copy, Debug)]
 pub enum Geometry {
     /// From `a` along `d` (t in [0, 1]); `l2` is the squared XY length.
-    Line { a: [f64; 3], d: [f64; 3], l2: f64 },
+    Line { a: Point, d: Point, l2: f64 },
     /// An arc in the XY plane, Z from `z0` changing by `dz`.
     Arc { c: [f64; 2], r: f64, start: f64, sweep: f64, z0: f64, dz: f64 },
 }
@@ -42,15 +43,14 @@ impl Cut {
     /// The line from `a` to `b`, written one way whichever way the tool goes
     /// (a plunge and its retract, a move and its return: the same swept
     /// volume), so that a repeat is the same cut to the bit.
-    pub fn line(a: [f64; 3], b: [f64; 3], cutter: Cutter) -> Cut {
-        let (a, b) = if (b[0], b[1], b[2]) < (a[0], a[1], a[2]) { (b, a) } else { (a, b) };
-        let mut d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let mut l2 = d[0] * d[0] + d[1] * d[1];
-        let mut a = a;
+    pub fn line(a: Point, b: Point, cutter: Cutter) -> Cut {
+        let (mut a, b) = if b.to_array() < a.to_array() { (b, a) } else { (a, b) };
+        let mut d = b - a;
+        let mut l2 = d.truncate().length_squared();
         if l2 <= PLUNGE {
             // Straight down or up: only where the tip goes lowest matters.
-            a[2] += d[2].min(0.0);
-            (d, l2) = ([0.0; 3], 0.0);
+            a.z += d.z.min(0.0);
+            (d, l2) = (Point::ZERO, 0.0);
         }
         let r = cutter.radius;
         Cut {
@@ -147,7 +147,7 @@ impl Cut {
 }
 
 #[inline(always)]
-fn line_low(a: [f64; 3], d: [f64; 3], l2: f64, cutter: &Cutter, px: f64, py: f64) -> f64 {
+fn line_low(a: Point, d: Point, l2: f64, cutter: &Cutter, px: f64, py: f64) -> f64 {
     let r = cutter.radius;
     let r2 = r * r;
     let (ux, uy) = (px - a[0], py - a[1]);
@@ -233,7 +233,7 @@ fn arc_low(c: [f64; 2], ra: f64, start: f64, sweep: f64, z0: f64, dz: f64, cutte
 mod tests {
     use super::*;
 
-    fn brute(cut: &Cut, p: [f64; 2], at: impl Fn(f64) -> [f64; 3]) -> f64 {
+    fn brute(cut: &Cut, p: [f64; 2], at: impl Fn(f64) -> Point) -> f64 {
         let mut best = f64::INFINITY;
         let n = 200_000;
         for k in 0..=n {
@@ -255,10 +255,11 @@ mod tests {
         for shape in SHAPES {
             let cutter = Cutter { radius: 0.8, shape };
             for (a, b) in moves {
+                let (a, b) = (Point::from(a), Point::from(b));
                 let cut = Cut::line(a, b, cutter);
                 for p in [[0.5, 0.3], [1.5, 0.9], [2.9, 1.2], [-0.5, 0.0], [0.0, 1.5], [1.0, 0.79]] {
                     let exact = cut.low(p[0], p[1]);
-                    let dense = brute(&cut, p, |t| std::array::from_fn(|i| a[i] + t * (b[i] - a[i])));
+                    let dense = brute(&cut, p, |t| a + t * (b - a));
                     assert!(
                         (exact - dense).abs() < 1e-4 || (exact.is_infinite() && dense.is_infinite()),
                         "{shape:?} {a:?}->{b:?} at {p:?}: {exact} vs {dense}"
@@ -285,7 +286,7 @@ mod tests {
                     let exact = cut.low(p[0], p[1]);
                     let dense = brute(&cut, p, |t| {
                         let a = start + t * sweep;
-                        [1.0 + 2.0 * a.cos(), 1.0 + 2.0 * a.sin(), t * dz]
+                        Point::new(1.0 + 2.0 * a.cos(), 1.0 + 2.0 * a.sin(), t * dz)
                     });
                     assert!(
                         (exact - dense).abs() < 1e-4 || (exact.is_infinite() && dense.is_infinite()),
@@ -300,6 +301,7 @@ mod tests {
     fn a_retract_is_its_plunge_and_a_move_back_is_the_move() {
         let cutter = Cutter { radius: 0.5, shape: Shape::Ball };
         for (a, b) in [([1.0, 2.0, 3.0], [1.0, 2.0, -1.0]), ([0.0, 0.0, 0.0], [2.0, -1.0, -0.5])] {
+            let (a, b) = (Point::from(a), Point::from(b));
             let (there, back) = (Cut::line(a, b, cutter), Cut::line(b, a, cutter));
             assert_eq!(there.key(), back.key());
             for p in [[1.0, 2.0], [1.2, 2.3], [1.0, 0.0], [0.5, -0.3]] {
@@ -307,7 +309,7 @@ mod tests {
             }
         }
         // Straight down: where the tip goes lowest, whatever the height it came from.
-        let plunge = Cut::line([1.0, 2.0, 3.0], [1.0, 2.0, -1.0], cutter);
+        let plunge = Cut::line(Point::new(1.0, 2.0, 3.0), Point::new(1.0, 2.0, -1.0), cutter);
         assert_eq!(plunge.key().1, -1.0);
         assert_eq!(plunge.low(1.0, 2.0), -1.0);
         assert_eq!(plunge.floor(), -1.0);

@@ -37,11 +37,12 @@ impl Stock {
     pub fn from_config(config: &Config) -> Option<Stock> {
         let size = config.stock.size?;
         let origin = config.stock.origin.unwrap_or([0.0, 0.0, size[2]]);
-        Some(Stock { min: std::array::from_fn(|i| -origin[i]), max: std::array::from_fn(|i| size[i] - origin[i]) })
+        let (size, origin) = (Point::from(size), Point::from(origin));
+        Some(Stock { min: -origin, max: size - origin })
     }
 
     pub fn size(&self) -> Point {
-        std::array::from_fn(|i| self.max[i] - self.min[i])
+        self.max - self.min
     }
 
     /// About 1000 cells along the longer side.
@@ -114,9 +115,8 @@ impl CutBounds {
         if let Segment::Line { from, to } = *segment {
             let (below, above) = if from[2] < to[2] { (from, to) } else { (to, from) };
             let t = if above[2] > 0.0 { -below[2] / (above[2] - below[2]) } else { 1.0 };
-            let end: Point = std::array::from_fn(|i| below[i] + t * (above[i] - below[i]));
-            lo = std::array::from_fn(|i| below[i].min(end[i]));
-            hi = std::array::from_fn(|i| below[i].max(end[i]));
+            let end = below + t * (above - below);
+            (lo, hi) = (below.min(end), below.max(end));
             widen(&mut lo, &mut hi);
         }
         grow(&mut self.cut, lo, hi);
@@ -128,8 +128,8 @@ impl CutBounds {
         let margin = if margin > 0.0 { margin } else { 1e-3 };
         let (lo, hi) = self.cut_box();
         Stock {
-            min: [lo[0] - margin, lo[1] - margin, lo[2].min(0.0) - margin],
-            max: [hi[0] + margin, hi[1] + margin, 0.0],
+            min: Point::new(lo[0] - margin, lo[1] - margin, lo[2].min(0.0) - margin),
+            max: Point::new(hi[0] + margin, hi[1] + margin, 0.0),
         }
     }
 
@@ -140,22 +140,22 @@ impl CutBounds {
     pub fn stock_for(&self, config: &Config) -> Stock {
         let Some(percent) = config.stock.margin_percent else { return self.stock(config.stock_margin()) };
         let (lo, hi) = self.cut_box();
-        let mut lo = [lo[0], lo[1], lo[2].min(0.0)];
-        let hi = [hi[0], hi[1], 0.0];
+        let mut lo = Point::new(lo[0], lo[1], lo[2].min(0.0));
+        let hi = Point::new(hi[0], hi[1], 0.0);
         let min_depth = 2.0 * ger_core::statement::Units::Mm.factor_to(config.units);
         if hi[2] - lo[2] < min_depth {
             lo[2] -= min_depth;
         }
-        let grow: Point = std::array::from_fn(|i| ((hi[i] - lo[i]) * percent / 100.0).max(1e-3));
-        Stock { min: std::array::from_fn(|i| lo[i] - grow[i]), max: [hi[0] + grow[0], hi[1] + grow[1], 0.0] }
+        let grow = ((hi - lo) * percent / 100.0).max(Point::splat(1e-3));
+        Stock { min: lo - grow, max: Point::new(hi[0] + grow[0], hi[1] + grow[1], 0.0) }
     }
 
     /// The box of the cut; of the moves, at Z=0, when nothing is cut.
     fn cut_box(&self) -> (Point, Point) {
         match (self.cut, self.all) {
             (Some(cut), _) => cut,
-            (None, Some((lo, hi))) => ([lo[0], lo[1], 0.0], [hi[0], hi[1], 0.0]),
-            (None, None) => ([0.0; 3], [0.0; 3]),
+            (None, Some((lo, hi))) => (lo.with_z(0.0), hi.with_z(0.0)),
+            (None, None) => (Point::ZERO, Point::ZERO),
         }
     }
 }

@@ -11,7 +11,8 @@ use ger_core::diag::Span;
 use ger_core::geom::arc_sweep;
 use ger_core::statement::{Kind, Machine, MotionMode, Plane, Statement};
 
-pub type Point = [f64; 3];
+/// A point or a vector in machine coordinates.
+pub type Point = glam::DVec3;
 
 /// A piece of the tool's path, in machine coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,11 +52,11 @@ impl Segment {
     /// The point at `t` in [0, 1] along the segment.
     pub fn at(&self, t: f64) -> Point {
         match *self {
-            Segment::Line { from, to } => std::array::from_fn(|i| from[i] + t * (to[i] - from[i])),
+            Segment::Line { from, to } => from + t * (to - from),
             Segment::Arc { from, to, centre, plane, radius, start, sweep } => {
                 let (a, b, n) = plane.axes();
                 let angle = start + t * sweep;
-                let mut p = [0.0; 3];
+                let mut p = Point::ZERO;
                 p[a] = centre[a] + radius * angle.cos();
                 p[b] = centre[b] + radius * angle.sin();
                 p[n] = from[n] + t * (to[n] - from[n]);
@@ -67,7 +68,7 @@ impl Segment {
     /// The length of the path (a helix's included).
     pub fn length(&self) -> f64 {
         match *self {
-            Segment::Line { from, to } => dist(from, to),
+            Segment::Line { from, to } => from.distance(to),
             Segment::Arc { from, to, plane, radius, sweep, .. } => {
                 let n = plane.axes().2;
                 (radius * sweep).hypot(to[n] - from[n])
@@ -93,8 +94,7 @@ impl Segment {
     /// The axis-aligned box the segment's points lie in.
     pub fn bounds(&self) -> (Point, Point) {
         let (from, to) = (self.from(), self.to());
-        let mut lo: Point = std::array::from_fn(|i| from[i].min(to[i]));
-        let mut hi: Point = std::array::from_fn(|i| from[i].max(to[i]));
+        let (mut lo, mut hi) = (from.min(to), from.max(to));
         if let Segment::Arc { centre, plane, radius, start, sweep, .. } = *self {
             let (a, b, _) = plane.axes();
             // The extremes along the plane's axes that the arc passes.
@@ -116,10 +116,6 @@ impl Segment {
 pub fn passes(start: f64, sweep: f64, angle: f64) -> bool {
     let along = (sweep.signum() * (angle - start)).rem_euclid(TAU);
     along <= sweep.abs()
-}
-
-pub fn dist(a: Point, b: Point) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 /// A move of the tool.
@@ -158,7 +154,7 @@ impl Default for Walker {
 impl Walker {
     /// At machine zero, in G17, with no tool loaded.
     pub fn new() -> Walker {
-        Walker { position: [0.0; 3], plane: Plane::XY, mode: MotionMode::Rapid }
+        Walker { position: Point::ZERO, plane: Plane::XY, mode: MotionMode::Rapid }
     }
 
     pub fn position(&self) -> Point {
@@ -182,9 +178,9 @@ impl Walker {
                 }
                 let from = self.position;
                 let mut to = from;
-                for (axis, slot) in to.iter_mut().enumerate() {
+                for axis in 0..3 {
                     if let Some(v) = motion.target.get(axis) {
-                        *slot = v.value;
+                        to[axis] = v.value;
                     }
                 }
                 self.position = to;
@@ -231,7 +227,7 @@ mod tests {
     }
 
     fn close(a: Point, b: Point) -> bool {
-        dist(a, b) < 1e-9
+        a.distance(b) < 1e-9
     }
 
     #[test]
@@ -239,10 +235,10 @@ mod tests {
         let steps = steps("G20\nG00 X1 Y2\nG01 Z-1 F100\n");
         let Step::Move(first) = steps[0] else { panic!() };
         assert!(first.rapid);
-        assert_eq!(first.segment, Segment::Line { from: [0.0; 3], to: [1.0, 2.0, 0.0] });
+        assert_eq!(first.segment, Segment::Line { from: Point::ZERO, to: Point::new(1.0, 2.0, 0.0) });
         let Step::Move(second) = steps[1] else { panic!() };
         assert!(!second.rapid);
-        assert_eq!(second.segment, Segment::Line { from: [1.0, 2.0, 0.0], to: [1.0, 2.0, -1.0] });
+        assert_eq!(second.segment, Segment::Line { from: Point::new(1.0, 2.0, 0.0), to: Point::new(1.0, 2.0, -1.0) });
     }
 
     #[test]
@@ -251,14 +247,14 @@ mod tests {
         let Step::Move(ccw) = steps[1] else { panic!() };
         let Segment::Arc { sweep, radius, .. } = ccw.segment else { panic!() };
         assert!((sweep - TAU / 4.0).abs() < 1e-12 && (radius - 1.0).abs() < 1e-12);
-        assert!(close(ccw.segment.at(0.5), [0.5f64.sqrt(), 0.5f64.sqrt(), 0.0]));
+        assert!(close(ccw.segment.at(0.5), Point::new(0.5f64.sqrt(), 0.5f64.sqrt(), 0.0)));
         let Step::Move(circle) = steps[2] else { panic!() };
         let Segment::Arc { sweep, .. } = circle.segment else { panic!() };
         assert!((sweep + TAU).abs() < 1e-12);
-        assert!(close(circle.segment.at(0.5), [0.0, -1.0, -0.5]));
+        assert!(close(circle.segment.at(0.5), Point::new(0.0, -1.0, -0.5)));
         assert!((circle.segment.length() - (TAU).hypot(1.0)).abs() < 1e-9);
         let (lo, hi) = circle.segment.bounds();
-        assert!(close(lo, [-1.0, -1.0, -1.0]) && close(hi, [1.0, 1.0, 0.0]));
+        assert!(close(lo, Point::new(-1.0, -1.0, -1.0)) && close(hi, Point::new(1.0, 1.0, 0.0)));
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! An arc is followed through points at most half a step apart, and a tick
 //! steps every axis whose rounded position changed.
 
-use crate::Segment;
+use crate::{Point, Segment};
 
 /// One tick: which axes step, and the direction lines (true: positive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,8 +32,8 @@ impl Pulser {
         Pulser { steps_per_unit, position: [0; 3], dir: [true; 3], steps: [0; 3] }
     }
 
-    fn steps_at(&self, p: [f64; 3]) -> [i64; 3] {
-        p.map(|x| (x * self.steps_per_unit).round() as i64)
+    fn steps_at(&self, p: Point) -> [i64; 3] {
+        p.to_array().map(|x| (x * self.steps_per_unit).round() as i64)
     }
 
     /// Emits the ticks of `segment`; stops early (returning false) when `emit` does.
@@ -112,7 +112,7 @@ mod tests {
     fn a_line_steps_its_long_axis_every_tick_and_the_others_evenly() {
         // 1 x 0.5 at 10 steps per unit: 10 ticks, X every tick, Y on ticks 1, 3, 5, 7, 9
         // (round(k * 5 / 10) goes up at k = 1, 3, 5, 7, 9).
-        let line = Segment::Line { from: [0.0; 3], to: [1.0, 0.5, 0.0] };
+        let line = Segment::Line { from: Point::ZERO, to: Point::new(1.0, 0.5, 0.0) };
         let (out, pulser) = ticks(&[line], 10.0);
         let shown: Vec<String> = out.iter().map(bits).collect();
         assert_eq!(shown, ["110", "100", "110", "100", "110", "100", "110", "100", "110", "100"]);
@@ -122,8 +122,8 @@ mod tests {
 
     #[test]
     fn going_back_sets_the_direction_line() {
-        let a = Segment::Line { from: [0.0; 3], to: [0.0, 0.0, -0.3] };
-        let b = Segment::Line { from: [0.0, 0.0, -0.3], to: [0.2, 0.0, -0.3] };
+        let a = Segment::Line { from: Point::ZERO, to: Point::new(0.0, 0.0, -0.3) };
+        let b = Segment::Line { from: Point::new(0.0, 0.0, -0.3), to: Point::new(0.2, 0.0, -0.3) };
         let (out, pulser) = ticks(&[a, b], 10.0);
         assert_eq!(out.len(), 5);
         assert_eq!(out[0], Pulse { step: [false, false, true], dir: [true, true, false] });
@@ -135,9 +135,9 @@ mod tests {
     fn a_full_circle_takes_as_many_steps_as_its_extent_and_returns() {
         // Radius 1 at 100 steps per unit: each axis travels 4 radii = 400 steps.
         let circle = Segment::Arc {
-            from: [1.0, 0.0, 0.0],
-            to: [1.0, 0.0, 0.0],
-            centre: [0.0; 3],
+            from: Point::new(1.0, 0.0, 0.0),
+            to: Point::new(1.0, 0.0, 0.0),
+            centre: Point::ZERO,
             plane: ger_core::statement::Plane::XY,
             radius: 1.0,
             start: 0.0,

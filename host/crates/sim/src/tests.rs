@@ -156,7 +156,7 @@ fn a_tool_not_in_the_table_is_an_error_at_its_m06() {
 
 #[test]
 fn a_resolution_too_fine_for_the_limit_names_the_finest_that_fits() {
-    let stock = Stock { min: [0.0, 0.0, -1.0], max: [100.0, 100.0, 0.0] };
+    let stock = Stock { min: Point::new(0.0, 0.0, -1.0), max: Point::new(100.0, 100.0, 0.0) };
     let Some(Refusal::TooBig(err)) = Simulation::new(stock, 0.001, 64 << 20).err() else { panic!("not refused") };
     assert!(err.needed > 64 << 20);
     assert!(HeightField::bytes(&stock, err.finest) <= 64 << 20);
@@ -175,14 +175,14 @@ fn a_margin_stock_is_the_box_of_the_cut_below_zero() {
         }
     }
     let stock = bounds.stock(0.1);
-    let want = Stock { min: [0.275, 0.275, -0.2], max: [1.725, 0.725, 0.0] };
+    let want = Stock { min: Point::new(0.275, 0.275, -0.2), max: Point::new(1.725, 0.725, 0.0) };
     for i in 0..3 {
         assert!((stock.min[i] - want.min[i]).abs() < 1e-9 && (stock.max[i] - want.max[i]).abs() < 1e-9, "{stock:?}");
     }
     // Nothing below zero: a block under the moves.
     let mut bounds = CutBounds::default();
-    bounds.add(&Segment::Line { from: [0.0; 3], to: [1.0, 1.0, 0.5] }, None);
-    assert_eq!(bounds.stock(0.1), Stock { min: [-0.1, -0.1, -0.1], max: [1.1, 1.1, 0.0] });
+    bounds.add(&Segment::Line { from: Point::ZERO, to: Point::new(1.0, 1.0, 0.5) }, None);
+    assert_eq!(bounds.stock(0.1), Stock { min: Point::new(-0.1, -0.1, -0.1), max: Point::new(1.1, 1.1, 0.0) });
 }
 
 /// Plunges, their retracts, repeats, deeper repeats, slanted and level lines
@@ -195,13 +195,13 @@ fn wandering_moves() -> Vec<Segment> {
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let mut moves = Vec::new();
-    let mut at = [1.0, 0.5, 0.2];
+    let mut at = Point::new(1.0, 0.5, 0.2);
     for _ in 0..60 {
         let to = match (next() * 5.0) as usize {
-            0 => [at[0], at[1], -0.6 * next()],
-            1 => [at[0], at[1], 0.2],
-            2 => [2.0 * next(), next(), at[2]],
-            3 => [2.0 * next(), next(), -0.3 * next()],
+            0 => at.with_z(-0.6 * next()),
+            1 => at.with_z(0.2),
+            2 => Point::new(2.0 * next(), next(), at[2]),
+            3 => Point::new(2.0 * next(), next(), -0.3 * next()),
             _ => {
                 // Back along the last move, or down it again a little deeper.
                 let last = *moves.last().unwrap_or(&Segment::Line { from: at, to: at });
@@ -209,7 +209,7 @@ fn wandering_moves() -> Vec<Segment> {
                 if next() < 0.5 {
                     from
                 } else {
-                    [from[0], from[1], from[2] - 0.01]
+                    from - Point::Z * 0.01
                 }
             }
         };
@@ -221,7 +221,7 @@ fn wandering_moves() -> Vec<Segment> {
 
 #[test]
 fn passing_over_cut_cells_and_repeats_leaves_what_every_move_cut() {
-    let stock = Stock { min: [0.0, 0.0, -0.5], max: [2.0, 1.0, 0.0] };
+    let stock = Stock { min: Point::new(0.0, 0.0, -0.5), max: Point::new(2.0, 1.0, 0.0) };
     let moves = wandering_moves();
     for cutter in [Cutter { radius: 0.15, shape: Shape::Ball }, Cutter { radius: 0.2, shape: Shape::Flat }] {
         let mut sim = Simulation::new(stock, 0.01, 1 << 30).unwrap();
@@ -258,10 +258,10 @@ fn passing_over_cut_cells_and_repeats_leaves_what_every_move_cut() {
 
 #[test]
 fn a_repeated_cut_removes_nothing_and_reports_nothing_but_a_deeper_one_cuts() {
-    let stock = Stock { min: [0.0, 0.0, -1.0], max: [1.0, 1.0, 0.0] };
+    let stock = Stock { min: Point::new(0.0, 0.0, -1.0), max: Point::new(1.0, 1.0, 0.0) };
     let cutter = Cutter { radius: 0.3, shape: Shape::Flat };
     let mut sim = Simulation::new(stock, 0.01, 1 << 30).unwrap().inspecting();
-    let (up, down, deeper) = ([0.5, 0.5, 0.5], [0.5, 0.5, -0.2], [0.5, 0.5, -0.4]);
+    let (up, down, deeper) = (Point::new(0.5, 0.5, 0.5), Point::new(0.5, 0.5, -0.2), Point::new(0.5, 0.5, -0.4));
     let line = |from, to| Segment::Line { from, to };
     let cut: Vec<bool> = [line(up, down), line(down, up), line(up, down), line(down, up), line(up, deeper)]
         .iter()

@@ -6,24 +6,26 @@
 //! stays smooth where the curve is. Whatever is written is checked both ways
 //! at samples: the curve against the pieces, and the pieces against the curve.
 
+use glam::DVec2;
+
 use super::spline::Nurbs;
 
 /// One move of the approximation; it starts where the one before it ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Piece {
     Line {
-        end: [f64; 2],
+        end: DVec2,
     },
     /// Less than half a turn about `centre`, counter-clockwise if `ccw`.
     Arc {
-        end: [f64; 2],
-        centre: [f64; 2],
+        end: DVec2,
+        centre: DVec2,
         ccw: bool,
     },
 }
 
 impl Piece {
-    pub fn end(&self) -> [f64; 2] {
+    pub fn end(&self) -> DVec2 {
         match *self {
             Piece::Line { end } | Piece::Arc { end, .. } => end,
         }
@@ -58,8 +60,8 @@ const MAX_DEPTH: u32 = 40;
 
 /// The pieces that follow `curve` from its start within `fit.tolerance`.
 pub fn approximate(curve: &Nurbs, fit: &Fit) -> Result<Vec<Piece>, FitError> {
-    let start = curve.point(curve.domain().0);
-    if !start.iter().all(|v| v.is_finite()) {
+    let start = DVec2::from(curve.point(curve.domain().0));
+    if !start.is_finite() {
         return Err(FitError::NotFinite);
     }
     let mut fitter = Fitter { curve, fit, pieces: Vec::new(), at: start };
@@ -74,15 +76,16 @@ struct Fitter<'a> {
     fit: &'a Fit,
     pieces: Vec<Piece>,
     /// Where the pieces so far end.
-    at: [f64; 2],
+    at: DVec2,
 }
 
 impl Fitter<'_> {
     fn interval(&mut self, span: usize, a: f64, b: f64, depth: u32) -> Result<(), FitError> {
-        let samples: Vec<[f64; 2]> =
-            (0..=SAMPLES).map(|k| self.curve.sample(span, a + (b - a) * k as f64 / SAMPLES as f64).point).collect();
+        let samples: Vec<DVec2> = (0..=SAMPLES)
+            .map(|k| self.curve.sample(span, a + (b - a) * k as f64 / SAMPLES as f64).point.into())
+            .collect();
         // Distances square coordinates: beyond this they overflow.
-        if !samples.iter().flatten().all(|v| v.abs() < 1e150) {
+        if !samples.iter().all(|v| v.abs().max_element() < 1e150) {
             return Err(FitError::NotFinite);
         }
         let end = samples[SAMPLES];
@@ -107,7 +110,7 @@ impl Fitter<'_> {
         for piece in pieces {
             let end = piece.end();
             if let Piece::Arc { centre, .. } = piece {
-                if !centre.iter().all(|v| v.is_finite()) {
+                if !centre.is_finite() {
                     return Err(FitError::NotFinite);
                 }
             } else if end == self.at {
@@ -125,54 +128,53 @@ impl Fitter<'_> {
     /// The unit tangent at `t`, heading along the curve; where the derivative
     /// vanishes (coinciding control points), the direction to a point just
     /// inside the piece, towards `other` (its other end).
-    fn tangent(&self, span: usize, t: f64, other: f64) -> Option<[f64; 2]> {
+    fn tangent(&self, span: usize, t: f64, other: f64) -> Option<DVec2> {
         let sample = self.curve.sample(span, t);
+        let (point, derivative) = (DVec2::from(sample.point), DVec2::from(sample.derivative));
         let along = if other > t { 1.0 } else { -1.0 };
-        let size = distance(sample.point, self.curve.sample(span, other).point);
-        let [dx, dy] = sample.derivative;
-        if dx.hypot(dy) * (other - t).abs() > 1e-9 * size {
-            return unit([dx, dy]);
+        let size = point.distance(self.curve.sample(span, other).point.into());
+        if derivative.length() * (other - t).abs() > 1e-9 * size {
+            return unit(derivative);
         }
-        let near = self.curve.sample(span, t + (other - t) * 1e-4).point;
-        unit([along * (near[0] - sample.point[0]), along * (near[1] - sample.point[1])])
+        let near = DVec2::from(self.curve.sample(span, t + (other - t) * 1e-4).point);
+        unit(along * (near - point))
     }
 
     /// Two arcs from `self.at` (leaving along `t0`) to `end` (arriving along
     /// `t1`), meeting with a common tangent. The two tangent lengths are made
     /// equal, which fixes the point where they meet.
-    fn biarc(&self, t0: [f64; 2], end: [f64; 2], t1: [f64; 2]) -> Option<[Piece; 2]> {
+    fn biarc(&self, t0: DVec2, end: DVec2, t1: DVec2) -> Option<[Piece; 2]> {
         let start = self.at;
-        let v = [end[0] - start[0], end[1] - start[1]];
-        let t = [t0[0] + t1[0], t0[1] + t1[1]];
-        let (vt, vv) = (dot(v, t), dot(v, v));
+        let (v, t) = (end - start, t0 + t1);
+        let (vt, vv) = (v.dot(t), v.dot(v));
         // |v − d t| = 2 d, solved for d > 0 in the form that stays exact as
         // the tangents become parallel.
-        let q = vt + (vt * vt + 2.0 * (1.0 - dot(t0, t1)) * vv).sqrt();
+        let q = vt + (vt * vt + 2.0 * (1.0 - t0.dot(t1)) * vv).sqrt();
         let d = vv / q;
         if !(d > 0.0 && d.is_finite()) {
             return None;
         }
-        let (q0, q1) = ([start[0] + d * t0[0], start[1] + d * t0[1]], [end[0] - d * t1[0], end[1] - d * t1[1]]);
-        let joint = [(q0[0] + q1[0]) / 2.0, (q0[1] + q1[1]) / 2.0];
-        let joint_tangent = unit([q1[0] - q0[0], q1[1] - q0[1]])?;
+        let (q0, q1) = (start + d * t0, end - d * t1);
+        let joint = (q0 + q1) / 2.0;
+        let joint_tangent = unit(q1 - q0)?;
         Some([self.arc(start, t0, joint)?, self.arc(joint, joint_tangent, end)?])
     }
 
     /// The arc from `from`, leaving along `tangent`, to `to`; a line where it is
     /// as good as straight; none if it is half a turn or more, or too tight.
-    fn arc(&self, from: [f64; 2], tangent: [f64; 2], to: [f64; 2]) -> Option<Piece> {
-        let chord = [to[0] - from[0], to[1] - from[1]];
-        let length = chord[0].hypot(chord[1]);
+    fn arc(&self, from: DVec2, tangent: DVec2, to: DVec2) -> Option<Piece> {
+        let chord = to - from;
+        let length = chord.length();
         if length == 0.0 {
             return Some(Piece::Line { end: to });
         }
         // The angle between the tangent and the chord is half the arc's turn.
-        let cos_half_turn = dot(tangent, chord) / length;
+        let cos_half_turn = tangent.dot(chord) / length;
         if cos_half_turn <= 0.0 {
             return None;
         }
-        let left = [-tangent[1], tangent[0]];
-        let side = dot(left, chord);
+        let left = tangent.perp();
+        let side = left.dot(chord);
         if side == 0.0 {
             return Some(Piece::Line { end: to });
         }
@@ -185,13 +187,13 @@ impl Fitter<'_> {
         if radius < self.fit.min_radius {
             return None;
         }
-        let centre = [from[0] + offset * left[0], from[1] + offset * left[1]];
+        let centre = from + offset * left;
         Some(Piece::Arc { end: to, centre, ccw: offset > 0.0 })
     }
 
     /// Whether `pieces`, from `self.at`, stay within the tolerance of the
     /// curve through `samples`, and it of them.
-    fn fits(&self, pieces: &[Piece], samples: &[[f64; 2]]) -> bool {
+    fn fits(&self, pieces: &[Piece], samples: &[DVec2]) -> bool {
         // A margin for what the curve does between samples.
         let tolerance = 0.9 * self.fit.tolerance;
         let mut starts = Vec::with_capacity(pieces.len());
@@ -200,14 +202,13 @@ impl Fitter<'_> {
             starts.push(at);
             at = piece.end();
         }
-        let near_pieces = |p: [f64; 2]| {
+        let near_pieces = |p: DVec2| {
             pieces.iter().zip(&starts).any(|(piece, &start)| distance_to_piece(p, start, piece) <= tolerance)
         };
         if !samples.iter().all(|&p| near_pieces(p)) {
             return false;
         }
-        let near_curve =
-            |p: [f64; 2]| samples.windows(2).any(|leg| distance_to_segment(p, leg[0], leg[1]) <= tolerance);
+        let near_curve = |p: DVec2| samples.windows(2).any(|leg| distance_to_segment(p, leg[0], leg[1]) <= tolerance);
         pieces
             .iter()
             .zip(&starts)
@@ -215,37 +216,25 @@ impl Fitter<'_> {
     }
 }
 
-fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
+/// `v` scaled to length 1, unless it has no direction.
+fn unit(v: DVec2) -> Option<DVec2> {
+    let length = v.length();
+    (length > 0.0 && length.is_finite()).then(|| v / length)
 }
 
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
-    let length = v[0].hypot(v[1]);
-    (length > 0.0 && length.is_finite()).then(|| [v[0] / length, v[1] / length])
-}
-
-fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let length_squared = dot(ab, ab);
-    let t = if length_squared == 0.0 {
-        0.0
-    } else {
-        (dot([p[0] - a[0], p[1] - a[1]], ab) / length_squared).clamp(0.0, 1.0)
-    };
-    distance(p, [a[0] + t * ab[0], a[1] + t * ab[1]])
+fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let length_squared = ab.dot(ab);
+    let t = if length_squared == 0.0 { 0.0 } else { ((p - a).dot(ab) / length_squared).clamp(0.0, 1.0) };
+    p.distance(a + t * ab)
 }
 
 /// How far an arc piece turns from its start, in radians (0 to 2π), and the
 /// angle of `p` from the start in the same sense.
-fn turns(start: [f64; 2], centre: [f64; 2], end: [f64; 2], ccw: bool, p: [f64; 2]) -> (f64, f64) {
-    let angle = |q: [f64; 2]| {
-        let (u, w) = ([start[0] - centre[0], start[1] - centre[1]], [q[0] - centre[0], q[1] - centre[1]]);
-        let cross = u[0] * w[1] - u[1] * w[0];
-        let turn = cross.atan2(dot(u, w));
+fn turns(start: DVec2, centre: DVec2, end: DVec2, ccw: bool, p: DVec2) -> (f64, f64) {
+    let angle = |q: DVec2| {
+        let (u, w) = (start - centre, q - centre);
+        let turn = u.perp_dot(w).atan2(u.dot(w));
         let turn = if ccw { turn } else { -turn };
         if turn < 0.0 {
             turn + std::f64::consts::TAU
@@ -257,30 +246,28 @@ fn turns(start: [f64; 2], centre: [f64; 2], end: [f64; 2], ccw: bool, p: [f64; 2
 }
 
 /// The distance from `p` to a piece that starts at `start`.
-fn distance_to_piece(p: [f64; 2], start: [f64; 2], piece: &Piece) -> f64 {
+fn distance_to_piece(p: DVec2, start: DVec2, piece: &Piece) -> f64 {
     match *piece {
         Piece::Line { end } => distance_to_segment(p, start, end),
         Piece::Arc { end, centre, ccw } => {
             let (sweep, at) = turns(start, centre, end, ccw, p);
             if at <= sweep {
-                (distance(p, centre) - distance(start, centre)).abs()
+                (p.distance(centre) - start.distance(centre)).abs()
             } else {
-                distance(p, start).min(distance(p, end))
+                p.distance(start).min(p.distance(end))
             }
         }
     }
 }
 
 /// The point a fraction `f` of the way along a piece that starts at `start`.
-fn point_on(piece: &Piece, start: [f64; 2], f: f64) -> [f64; 2] {
+fn point_on(piece: &Piece, start: DVec2, f: f64) -> DVec2 {
     match *piece {
-        Piece::Line { end } => [start[0] + f * (end[0] - start[0]), start[1] + f * (end[1] - start[1])],
+        Piece::Line { end } => start + f * (end - start),
         Piece::Arc { end, centre, ccw } => {
             let (sweep, _) = turns(start, centre, end, ccw, end);
             let angle = if ccw { f * sweep } else { -f * sweep };
-            let (sin, cos) = angle.sin_cos();
-            let u = [start[0] - centre[0], start[1] - centre[1]];
-            [centre[0] + cos * u[0] - sin * u[1], centre[1] + sin * u[0] + cos * u[1]]
+            centre + DVec2::from_angle(angle).rotate(start - centre)
         }
     }
 }
@@ -339,7 +326,7 @@ mod tests {
             Equation { points: points.to_vec(), order, knots }
         }
 
-        fn at(&self, f: f64) -> [f64; 2] {
+        fn at(&self, f: f64) -> DVec2 {
             let (low, high) = (self.knots[0], self.knots[self.knots.len() - 1]);
             let u = low + f * (high - low);
             let (mut x, mut y, mut w) = (0.0, 0.0, 0.0);
@@ -349,7 +336,7 @@ mod tests {
                 y += b * p[1];
                 w += b;
             }
-            [x / w, y / w]
+            DVec2::new(x / w, y / w)
         }
     }
 
@@ -358,28 +345,28 @@ mod tests {
     /// is refined from the nearest sample by a ternary search on the parameter.
     fn deviation(equation: &Equation, pieces: &[Piece]) -> (f64, f64) {
         const N: usize = 4000;
-        let curve: Vec<[f64; 2]> = (0..=N).map(|k| equation.at(k as f64 / N as f64)).collect();
+        let curve: Vec<DVec2> = (0..=N).map(|k| equation.at(k as f64 / N as f64)).collect();
         let mut starts = vec![curve[0]];
         for piece in pieces {
             starts.push(piece.end());
         }
-        let to_path = |p: [f64; 2]| {
+        let to_path = |p: DVec2| {
             pieces.iter().zip(&starts).map(|(piece, &s)| distance_to_piece(p, s, piece)).fold(f64::INFINITY, f64::min)
         };
         let curve_to_path = curve.iter().map(|&p| to_path(p)).fold(0.0, f64::max);
-        let to_curve = |p: [f64; 2]| {
-            let nearest = (0..=N).min_by(|&a, &b| distance(p, curve[a]).total_cmp(&distance(p, curve[b]))).unwrap();
+        let to_curve = |p: DVec2| {
+            let nearest = (0..=N).min_by(|&a, &b| p.distance(curve[a]).total_cmp(&p.distance(curve[b]))).unwrap();
             let (mut low, mut high) =
                 (nearest.saturating_sub(1) as f64 / N as f64, (nearest + 1).min(N) as f64 / N as f64);
             for _ in 0..60 {
                 let (a, b) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
-                if distance(p, equation.at(a)) < distance(p, equation.at(b)) {
+                if p.distance(equation.at(a)) < p.distance(equation.at(b)) {
                     high = b;
                 } else {
                     low = a;
                 }
             }
-            distance(p, equation.at((low + high) / 2.0)).min(distance(p, curve[nearest]))
+            p.distance(equation.at((low + high) / 2.0)).min(p.distance(curve[nearest]))
         };
         let path_to_curve = pieces
             .iter()
@@ -394,19 +381,19 @@ mod tests {
         let pieces = approximate(curve, &FIT).unwrap();
         let last = pieces.last().expect("pieces").end();
         let end = equation.at(1.0);
-        assert!(distance(last, end) < 1e-9, "ends at {last:?}, not {end:?}");
+        assert!(last.distance(end) < 1e-9, "ends at {last:?}, not {end:?}");
         let (curve_to_path, path_to_curve) = deviation(equation, &pieces);
         assert!(curve_to_path <= FIT.tolerance, "the curve strays {curve_to_path} from the path");
         assert!(path_to_curve <= FIT.tolerance, "the path strays {path_to_curve} from the curve");
         for piece in &pieces {
             if let Piece::Arc { centre, .. } = piece {
-                assert!(centre.iter().all(|v| v.is_finite()));
+                assert!(centre.is_finite());
             }
         }
         let radii_ok = pieces.iter().zip(std::iter::once(equation.at(0.0)).chain(pieces.iter().map(Piece::end))).all(
             |(piece, start)| match piece {
                 Piece::Arc { centre, end, .. } => {
-                    let (r0, r1) = (distance(start, *centre), distance(*end, *centre));
+                    let (r0, r1) = (start.distance(*centre), end.distance(*centre));
                     (r0 - r1).abs() < 1e-9 && r0 >= FIT.min_radius
                 }
                 Piece::Line { .. } => true,
@@ -464,7 +451,7 @@ mod tests {
     #[test]
     fn a_straight_curve_is_one_line() {
         let shape = [[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [3.0, 3.0]];
-        assert_eq!(approximate(&Nurbs::bezier(&shape), &FIT).unwrap(), [Piece::Line { end: [3.0, 3.0] }]);
+        assert_eq!(approximate(&Nurbs::bezier(&shape), &FIT).unwrap(), [Piece::Line { end: DVec2::new(3.0, 3.0) }]);
     }
 
     #[test]
@@ -477,7 +464,7 @@ mod tests {
         assert_eq!(pieces.len(), 2, "{pieces:?}");
         for piece in pieces {
             let Piece::Arc { centre, ccw, .. } = piece else { panic!("{piece:?} is not an arc") };
-            assert!(ccw && centre[0].abs() < 1e-9 && centre[1].abs() < 1e-9, "{piece:?}");
+            assert!(ccw && centre.length() < 1e-9, "{piece:?}");
         }
     }
 
@@ -493,10 +480,10 @@ mod tests {
         let shape = [[0.0, 0.0], [2.0, 1.0], [0.0, 1.0], [2.0, 0.0]];
         let fit = Fit { min_radius: 0.05, ..FIT };
         let pieces = approximate(&Nurbs::bezier(&shape), &fit).unwrap();
-        let mut start = [0.0, 0.0];
+        let mut start = DVec2::ZERO;
         for piece in &pieces {
             if let Piece::Arc { centre, .. } = piece {
-                assert!(distance(start, *centre) >= 0.05, "{piece:?}");
+                assert!(start.distance(*centre) >= 0.05, "{piece:?}");
             }
             start = piece.end();
         }

@@ -270,11 +270,11 @@ impl Absolute {
         })?;
         let last = pieces.len().saturating_sub(1);
         for (k, piece) in pieces.iter().enumerate() {
-            let to = if k == last { end } else { piece.end() };
+            let to = if k == last { end } else { piece.end().to_array() };
             let (mode, centre) = match *piece {
                 Piece::Line { .. } => (MotionMode::Linear, None),
-                Piece::Arc { centre, ccw: true, .. } => (MotionMode::ArcCcw, Some(centre)),
-                Piece::Arc { centre, ccw: false, .. } => (MotionMode::ArcCw, Some(centre)),
+                Piece::Arc { centre, ccw: true, .. } => (MotionMode::ArcCcw, Some(centre.to_array())),
+                Piece::Arc { centre, ccw: false, .. } => (MotionMode::ArcCw, Some(centre.to_array())),
             };
             self.cut(mode, to, centre, feed, statement, out);
         }

@@ -6,91 +6,27 @@
 //! with the answers (which moves to write, which errors to report).
 
 use std::f64::consts::{PI, TAU};
-use std::ops::{Add, Mul, Neg, Sub};
 
 use crate::statement::Side;
 
 /// Below this, a length is rounding noise (machine units are inches or mm).
 const NOISE: f64 = 1e-9;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Point {
-    pub x: f64,
-    pub y: f64,
-}
+/// A point or a vector in the plane (glam's: `perp_dot` is the z of the 3D
+/// cross product, > 0 when the other turns left; `perp` a quarter turn
+/// counter-clockwise).
+pub type Point = glam::DVec2;
 
-impl Point {
-    pub fn new(x: f64, y: f64) -> Point {
-        Point { x, y }
-    }
-
-    pub fn dot(self, other: Point) -> f64 {
-        self.x * other.x + self.y * other.y
-    }
-
-    /// The z component of the 3D cross product: > 0 when `other` turns left
-    /// (counter-clockwise) from `self`.
-    pub fn cross(self, other: Point) -> f64 {
-        self.x * other.y - self.y * other.x
-    }
-
-    pub fn length(self) -> f64 {
-        // Not hypot: exact to the last bit is not needed here, and hypot is
-        // a tenth of the translation time of a long compensated program.
-        self.dot(self).sqrt()
-    }
-
-    pub fn distance(self, other: Point) -> f64 {
-        (self - other).length()
-    }
-
-    pub fn unit(self) -> Point {
-        self * (1.0 / self.length())
-    }
-
-    /// Turned a quarter turn counter-clockwise.
-    pub fn left(self) -> Point {
-        Point::new(-self.y, self.x)
-    }
-
-    fn angle(self) -> f64 {
-        self.y.atan2(self.x)
-    }
-}
-
-impl Add for Point {
-    type Output = Point;
-    fn add(self, other: Point) -> Point {
-        Point::new(self.x + other.x, self.y + other.y)
-    }
-}
-
-impl Sub for Point {
-    type Output = Point;
-    fn sub(self, other: Point) -> Point {
-        Point::new(self.x - other.x, self.y - other.y)
-    }
-}
-
-impl Mul<f64> for Point {
-    type Output = Point;
-    fn mul(self, k: f64) -> Point {
-        Point::new(self.x * k, self.y * k)
-    }
-}
-
-impl Neg for Point {
-    type Output = Point;
-    fn neg(self) -> Point {
-        Point::new(-self.x, -self.y)
-    }
+/// The direction of `v` from the X axis, in (-π, π].
+fn angle(v: Point) -> f64 {
+    v.y.atan2(v.x)
 }
 
 /// The unit normal on the tool's side of a path running along `tangent`.
 pub fn normal(side: Side, tangent: Point) -> Point {
     match side {
-        Side::Left => tangent.left(),
-        Side::Right => -tangent.left(),
+        Side::Left => tangent.perp(),
+        Side::Right => -tangent.perp(),
     }
 }
 
@@ -133,7 +69,7 @@ impl Segment {
     /// The arc from `start` to `end` about `centre`; a full circle when the
     /// two ends are the same point.
     pub fn arc(start: Point, end: Point, centre: Point, ccw: bool) -> Segment {
-        let turn = (end - centre).angle() - (start - centre).angle();
+        let turn = angle(end - centre) - angle(start - centre);
         let sweep = if start.distance(end) <= NOISE {
             TAU
         } else if ccw {
@@ -167,9 +103,9 @@ impl Segment {
     /// The unit direction of travel at `p`, a point of the path.
     fn tangent_at(&self, p: Point) -> Point {
         match *self {
-            Segment::Line { start, end } => (end - start).unit(),
+            Segment::Line { start, end } => (end - start).normalize(),
             Segment::Arc { centre, ccw, .. } => {
-                let t = (p - centre).left().unit();
+                let t = (p - centre).perp().normalize();
                 if ccw {
                     t
                 } else {
@@ -213,13 +149,13 @@ impl Segment {
     pub fn trimmed(&self, from: Point, to: Point) -> Option<Segment> {
         match *self {
             Segment::Line { start, end } => {
-                let along = (to - from).dot((end - start).unit());
+                let along = (to - from).dot((end - start).normalize());
                 (along >= -NOISE).then_some(Segment::Line { start: from, end: to })
             }
             Segment::Arc { start, end, centre, ccw, sweep } => {
                 // Angles turned in the arc's own direction.
                 let turn = |p: Point, q: Point| {
-                    let a = principal((q - centre).angle() - (p - centre).angle());
+                    let a = principal(angle(q - centre) - angle(p - centre));
                     if ccw {
                         a
                     } else {
@@ -244,15 +180,15 @@ impl Segment {
         match (*self, *other) {
             (Segment::Line { start: p, end: p2 }, Segment::Line { start: q, end: q2 }) => {
                 let (d, e) = (p2 - p, q2 - q);
-                let det = d.cross(e);
+                let det = d.perp_dot(e);
                 if det.abs() <= NOISE * d.length() * e.length() {
                     return [None, None];
                 }
-                [Some(p + d * ((q - p).cross(e) / det)), None]
+                [Some(p + d * ((q - p).perp_dot(e) / det)), None]
             }
             (Segment::Line { start, end }, Segment::Arc { centre, start: on, .. })
             | (Segment::Arc { centre, start: on, .. }, Segment::Line { start, end }) => {
-                let d = (end - start).unit();
+                let d = (end - start).normalize();
                 let foot = start + d * (centre - start).dot(d);
                 let radius = on.distance(centre);
                 let h2 = radius * radius - foot.distance(centre).powi(2);
@@ -277,7 +213,7 @@ impl Segment {
                 let u = (c2 - c1) * (1.0 / d);
                 let mid = c1 + u * a;
                 let h = h2.sqrt();
-                [Some(mid + u.left() * h), Some(mid - u.left() * h)]
+                [Some(mid + u.perp() * h), Some(mid - u.perp() * h)]
             }
         }
     }
@@ -307,7 +243,7 @@ pub fn corner(at: Point, a: &Segment, b: &Segment, side: Side, gap: f64) -> Opti
     if a.end().distance(b.start()) <= gap {
         return Some(Corner::Smooth);
     }
-    let turn = a.end_tangent().cross(b.start_tangent());
+    let turn = a.end_tangent().perp_dot(b.start_tangent());
     // A turn towards the tool's side is an inside corner; a full reversal,
     // which turns neither way, is taken as outside (round the end of a slot).
     let inside = match side {

@@ -378,7 +378,7 @@ impl CutterComp {
                         Segment::Line { start, .. } => Some((start, offset)),
                         Segment::Arc { start, centre, ccw, .. } => {
                             let end = offset.end();
-                            let along = (end - centre).unit();
+                            let along = (end - centre).normalize();
                             let chord = end - start;
                             let shift = ((end - centre).dot(end - centre) - (start - centre).dot(start - centre))
                                 / (2.0 * along.dot(chord));

@@ -1,4 +1,4 @@
-//! `ger view`'s HTTP side, as `docs/view-api.md` describes it: the page's
+//! `ger view`'s HTTP side, as `host/docs/view-api.md` describes it: the page's
 //! files, the snapshot as JSON and binary, server-sent events, and the
 //! requests that change the session. Every bad request gets a 4xx answer
 //! with a JSON message; nothing a client sends stops the server.
@@ -24,12 +24,12 @@ use hyper_util::service::TowerToHyperService;
 use serde::Deserialize;
 use serde_json::{json, Value};
 
-use super::assets::ASSETS;
-use super::guard::Guard;
-use super::session::{Notice, Refusal, Session, Snapshot};
+use crate::assets::ASSETS;
+use crate::guard::Guard;
+use crate::session::{Notice, Refusal, Session, Snapshot};
 
 /// The largest body a request may have: a program of a few million lines.
-pub(super) const BODY_LIMIT: usize = 64 << 20;
+pub(crate) const BODY_LIMIT: usize = 64 << 20;
 /// How long a connection may take to send a request's head, or stay idle
 /// between requests: then it is closed, so that slow or silent clients cannot
 /// hold connections open.
@@ -51,7 +51,7 @@ fn refuse(status: StatusCode, message: impl Into<String>) -> ApiError {
 }
 
 /// Serves the session on `listener` (bound to 127.0.0.1:`port`) until the process ends.
-pub(super) async fn serve(listener: std::net::TcpListener, session: Arc<Session>, port: u16) -> std::io::Result<()> {
+pub(crate) async fn serve(listener: std::net::TcpListener, session: Arc<Session>, port: u16) -> std::io::Result<()> {
     let listener = tokio::net::TcpListener::from_std(listener)?;
     let mut router = Router::new()
         .route("/api/state", get(state))
@@ -192,8 +192,8 @@ async fn source(State(session): Shared, body: Result<Bytes, BytesRejection>) -> 
     Ok(version(session.edit(text)))
 }
 
-fn failed(message: String) -> ApiError {
-    refuse(StatusCode::INTERNAL_SERVER_ERROR, message)
+fn failed(err: impl std::fmt::Display) -> ApiError {
+    refuse(StatusCode::INTERNAL_SERVER_ERROR, err.to_string())
 }
 
 async fn save(State(session): Shared, body: Result<Bytes, BytesRejection>) -> Result<Json<Value>, ApiError> {

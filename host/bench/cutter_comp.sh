@@ -8,15 +8,15 @@
 # (radius 40 mm, 6 mm endmill inside it, so every vertex is an inside corner
 # the pass cuts), as G01 X Y Z moves in millimetres.
 #
-#   bench/cutter_comp.sh [LINES]     (default 1000000)
+#   host/bench/cutter_comp.sh [LINES]     (default 1000000)
 #
 # Time on a shared machine is noisy; with INSTRUCTIONS=1 the script also
 # counts the instructions each run executes (valgrind --tool=callgrind, about
 # 50 times slower: use fewer LINES), a figure that does not depend on load.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 lines=${1:-1000000}
-out=bench/out
+out=host/bench/out
 mkdir -p "$out"
 plain="$out/contour-$lines.ngc"
 comp="$out/contour-$lines-g41.ngc"

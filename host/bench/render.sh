@@ -10,15 +10,15 @@
 #      ger's strict dialect first (T1 M6 -> M06 T1; G64, G80, G94 and S words
 #      dropped), which changes no move.
 #
-#   bench/render.sh [LINES]     (default 1000000)
+#   host/bench/render.sh [LINES]     (default 1000000)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 lines=${1:-1000000}
-out=bench/out
+out=host/bench/out
 mkdir -p "$out"
 surface="$out/surface-$lines.ngc"
-[ -f "$surface" ] || python3 bench/gen_surface.py "$lines" > "$surface"
-python3 bench/gen_pocket.py > "$out/pocket.ngc"
+[ -f "$surface" ] || python3 host/bench/gen_surface.py "$lines" > "$surface"
+python3 host/bench/gen_pocket.py > "$out/pocket.ngc"
 cargo build --release -q -p ger
 ger=$PWD/target/release/ger
 measure() { # NAME MOVES COMMAND... : best of 3 by CPU time

@@ -6,7 +6,7 @@
 //! memory just in case it has an error.
 
 use std::collections::{BTreeSet, HashMap};
-use std::io::{self, BufRead};
+use std::io::BufRead;
 
 use annotate_snippets::{AnnotationKind, Group, Level, Renderer, Snippet};
 
@@ -17,6 +17,7 @@ const SHOWN: usize = 200;
 /// How many calls of a chain are listed.
 const CHAIN_SHOWN: usize = 6;
 
+/// The diagnostics of a job: counted, the first ones kept, rendered on demand.
 #[derive(Default)]
 pub struct Report {
     shown: Vec<Diagnostic>,
@@ -41,6 +42,11 @@ impl Report {
         if self.shown.len() < SHOWN {
             self.shown.push(diagnostic);
         }
+    }
+
+    /// The diagnostics kept to show (the first 200; past that they are only counted).
+    pub fn diagnostics(&self) -> &[Diagnostic] {
+        &self.shown
     }
 
     pub fn errors(&self) -> usize {
@@ -148,20 +154,6 @@ fn floor_char(text: &str, mut index: usize) -> usize {
         index -= 1;
     }
     index
-}
-
-/// Reports a problem that is not in the program text (a file that cannot be
-/// read, a bad option value) in the same style.
-pub fn plain_error(message: &str, help: Option<&str>) -> String {
-    let mut text = format!("error: {message}\n");
-    if let Some(help) = help {
-        text.push_str(&format!("  = help: {help}\n"));
-    }
-    text
-}
-
-pub fn read_error(path: &str, err: &io::Error) -> String {
-    plain_error(&format!("cannot read {path}: {err}"), None)
 }
 
 #[cfg(test)]

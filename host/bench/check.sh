@@ -5,14 +5,14 @@
 #   1. with [stock] size given (one pass over the program each);
 #   2. without (each first finds the stock in a pass of its own).
 #
-#   bench/check.sh [LINES]     (default 1000000)
+#   host/bench/check.sh [LINES]     (default 1000000)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 lines=${1:-1000000}
-out=bench/out
+out=host/bench/out
 mkdir -p "$out"
 surface="$out/surface-$lines.ngc"
-[ -f "$surface" ] || python3 bench/gen_surface.py "$lines" > "$surface"
+[ -f "$surface" ] || python3 host/bench/gen_surface.py "$lines" > "$surface"
 cargo build --release -q -p ger
 ger=$PWD/target/release/ger
 best_wall() { # COMMAND... : best wall seconds of 3, and its CPU seconds and peak MB

@@ -12,18 +12,16 @@ use axum::body::Bytes;
 use serde::Serialize;
 use tokio::sync::watch;
 
-use super::super::render::{bounds, simulation, walk_events};
-use super::super::report::{plain_error, read_error};
-use super::super::{load_config, Input, Purpose};
-use super::ViewArgs;
-use ger_check::{Checker, Rule};
-use ger_core::diag::{Diagnostic, Severity, Span};
-use ger_core::emit::{preamble, Emitter};
-use ger_core::passes::Event;
-use ger_core::statement::Statement;
+use crate::{Error, Options};
+use ger_engine::check::{Checker, Rule};
+use ger_engine::core::diag::{Diagnostic, Severity, Span};
+use ger_engine::core::emit::{preamble, Emitter};
+use ger_engine::core::passes::Event;
+use ger_engine::core::statement::Statement;
+use ger_engine::render::pieces::{self, Piece};
+use ger_engine::sim::{HeightField, Step, Stock, Walker};
+use ger_engine::{Program, Purpose, Resolution, Silent, Source};
 use ger_output::OutputFile;
-use ger_render::pieces::{self, Piece};
-use ger_sim::{HeightField, Step, Stock, Walker};
 
 /// Above this many pieces the toolpath sent to the page is decimated.
 const MAX_PIECES: usize = 200_000;
@@ -34,7 +32,7 @@ const CELLS: f64 = 500.0;
 
 /// What a snapshot or a client waiting on one is told, by the events it becomes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Notice {
+pub(crate) enum Notice {
     /// Snapshot N is being made.
     Busy(u64),
     /// Snapshot N is ready.
@@ -43,7 +41,7 @@ pub(super) enum Notice {
 
 /// A program as the session holds it.
 #[derive(Clone)]
-struct Program {
+struct Opened {
     /// Canonical.
     file: PathBuf,
     /// Relative to the session's folder, with `/` between parts.
@@ -56,7 +54,7 @@ struct Program {
     conflict: bool,
 }
 
-impl Program {
+impl Opened {
     fn saved(&self) -> bool {
         self.text == self.disk
     }
@@ -67,11 +65,11 @@ struct State {
     version: u64,
     /// A change is waiting for the worker.
     pending: bool,
-    program: Program,
+    program: Opened,
 }
 
 /// Why a path asked for cannot be opened.
-pub(super) enum Refusal {
+pub(crate) enum Refusal {
     /// Absolute, climbing with `..`, or a symlink out of the folder.
     Outside,
     Missing,
@@ -80,7 +78,7 @@ pub(super) enum Refusal {
 }
 
 /// A snapshot: the program translated, checked and simulated, ready to send.
-pub(super) struct Snapshot {
+pub(crate) struct Snapshot {
     pub version: u64,
     /// The state's JSON after its opening brace, without `version` and `busy`,
     /// which are put in front of it when it is sent (`busy` changes without a new snapshot).
@@ -98,8 +96,8 @@ impl Snapshot {
     }
 }
 
-pub(super) struct Session {
-    args: ViewArgs,
+pub(crate) struct Session {
+    options: Options,
     /// The program's folder, canonical: all that `/api/open` and `/api/files` reach.
     pub folder: PathBuf,
     state: Mutex<State>,
@@ -110,17 +108,17 @@ pub(super) struct Session {
 
 impl Session {
     /// Reads the program and starts the worker on its first snapshot.
-    pub fn start(args: ViewArgs) -> Result<Arc<Session>, String> {
-        let given = &args.common.file;
-        let cannot = |err: io::Error| read_error(&given.display().to_string(), &err);
+    pub fn start(options: Options) -> Result<Arc<Session>, Error> {
+        let given = &options.file;
+        let cannot = |source: io::Error| Error::Read { name: given.display().to_string(), source };
         let file = given.canonicalize().map_err(cannot)?;
         let text: Arc<str> = std::fs::read_to_string(&file).map_err(cannot)?.into();
         let folder = file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
         let name = file.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let program = Program { file, name, text: text.clone(), disk: text, conflict: false };
+        let program = Opened { file, name, text: text.clone(), disk: text, conflict: false };
         let empty = Arc::new(snapshot(0, &program, Made::default(), 0));
         let session = Arc::new(Session {
-            args,
+            options,
             folder,
             state: Mutex::new(State { version: 1, pending: true, program }),
             wake: Condvar::new(),
@@ -131,7 +129,7 @@ impl Session {
         std::thread::Builder::new()
             .name("ger view snapshots".to_string())
             .spawn(move || worker.work())
-            .map_err(|err| plain_error(&format!("cannot start the snapshot worker: {err}"), None))?;
+            .map_err(|source| Error::Start { what: "start the snapshot worker", source })?;
         Ok(session)
     }
 
@@ -171,7 +169,7 @@ impl Session {
 
     /// The page's text, written to the file. The lock is held while writing,
     /// so the watcher, seeing the file change, finds the text it already knows.
-    pub fn save(&self, text: String) -> Result<u64, String> {
+    pub fn save(&self, text: String) -> Result<u64, FileError> {
         let mut state = self.lock();
         write_whole(&state.program.file, text.as_bytes())?;
         let text: Arc<str> = text.into();
@@ -182,7 +180,7 @@ impl Session {
     }
 
     /// Drops unsaved edits: the file's text again.
-    pub fn reload(&self) -> Result<u64, String> {
+    pub fn reload(&self) -> Result<u64, FileError> {
         let mut state = self.lock();
         let text: Arc<str> = read(&state.program.file)?.into();
         state.program.text = text.clone();
@@ -195,13 +193,13 @@ impl Session {
     pub fn open(&self, relative: &str) -> Result<u64, Refusal> {
         let file = self.resolve(relative)?;
         let size = std::fs::metadata(&file).map_err(|_| Refusal::Missing)?.len();
-        if size > super::server::BODY_LIMIT as u64 {
+        if size > crate::server::BODY_LIMIT as u64 {
             return Err(Refusal::TooLarge);
         }
         let text: Arc<str> = std::fs::read_to_string(&file).map_err(|_| Refusal::NotText)?.into();
         let name = file.strip_prefix(&self.folder).map_or_else(|_| relative.to_string(), slashed);
         let mut state = self.lock();
-        state.program = Program { file, name, text: text.clone(), disk: text, conflict: false };
+        state.program = Opened { file, name, text: text.clone(), disk: text, conflict: false };
         Ok(self.changed(&mut state))
     }
 
@@ -256,7 +254,7 @@ impl Session {
     /// The files the watcher looks at now: the program, and its config.
     pub fn watched(&self) -> (PathBuf, PathBuf) {
         let file = self.lock().program.file.clone();
-        let config = match &self.args.common.config {
+        let config = match &self.options.settings.config {
             Some(path) => path.clone(),
             None => file.with_file_name("ger.toml"),
         };
@@ -264,7 +262,7 @@ impl Session {
     }
 
     pub fn wizards(&self) -> &Path {
-        &self.args.common.wizards.dir
+        &self.options.wizards_dir
     }
 
     /// The G-code files in the folder and below it, relative and sorted.
@@ -308,7 +306,7 @@ impl Session {
             };
             self.notices.send_replace(Notice::Busy(version));
             let started = Instant::now();
-            let made = make(&self.args, &program);
+            let made = make(&self.options, &program);
             let snapshot = snapshot(version, &program, made, started.elapsed().as_millis() as u64);
             *self.latest.lock().unwrap_or_else(|p| p.into_inner()) = Arc::new(snapshot);
             self.notices.send_replace(Notice::Ready(version));
@@ -320,17 +318,23 @@ fn slashed(path: &Path) -> String {
     path.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/")
 }
 
-fn read(file: &Path) -> Result<String, String> {
-    std::fs::read_to_string(file).map_err(|err| format!("cannot read {}: {err}", file.display()))
+/// A program file the page asked to read or write that could not be.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot {action} {}: {source}", file.display())]
+pub(crate) struct FileError {
+    action: &'static str,
+    file: PathBuf,
+    source: io::Error,
+}
+
+fn read(file: &Path) -> Result<String, FileError> {
+    std::fs::read_to_string(file).map_err(|source| FileError { action: "read", file: file.to_path_buf(), source })
 }
 
 /// Writes the file whole (see `ger_output`): never half-written, keeping its mode.
-fn write_whole(file: &Path, text: &[u8]) -> Result<(), String> {
-    let mut output = OutputFile::create(file).map_err(|err| format!("cannot write {}: {err}", file.display()))?;
-    output
-        .write_all(text)
-        .and_then(|()| output.commit())
-        .map_err(|err| format!("cannot write {}: {err}", file.display()))
+fn write_whole(file: &Path, text: &[u8]) -> Result<(), FileError> {
+    let written = OutputFile::create(file).and_then(|mut output| output.write_all(text).and_then(|()| output.commit()));
+    written.map_err(|source| FileError { action: "write", file: file.to_path_buf(), source })
 }
 
 /// What a translation, check and simulation of a program made.
@@ -349,27 +353,32 @@ struct Made {
     cell: f64,
 }
 
-/// Translates, checks and simulates `program` on the machine `args` describe.
-fn make(args: &ViewArgs, program: &Program) -> Made {
-    let dir = program.file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
-    let input = Input::Text { name: program.name.clone(), dir, text: program.text.clone() };
+/// Translates, checks and simulates `opened` on the machine `options` describe.
+fn make(options: &Options, opened: &Opened) -> Made {
+    let dir = opened.file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
+    let source = Source::text(opened.name.clone(), dir, opened.text.clone());
     let mut made = Made::default();
-    let config = match load_config(&args.common, &input, Purpose::Cut, false) {
+    let config = match options.settings.load(&source, Purpose::Cut) {
         Ok(config) => config,
-        Err(message) => {
-            made.problems.push(message.trim_end().to_string());
+        Err(err) => {
+            made.problems.push(err.render(false).trim_end().to_string());
             return made;
         }
     };
     made.units = config.units.abbreviation();
-    let mut wizards = args.common.wizards.runtime(&config);
-    // Without a size, the stock is where the program cuts: one pass to find it (as `ger check`).
-    let stock = Stock::from_config(&config).or_else(|| {
-        let (_, cut, path_box) = bounds(&input, &config, &mut wizards, true);
-        path_box.map(|_| cut.stock_for(&config))
+    let wizards = (options.wizards)(&config);
+    let mut program = Program::new(source, config).with_wizards(wizards);
+    // Without a size, the stock is where the program cuts: one pass to find it
+    // (as `ger check`), unless the program does not move.
+    let stock = Stock::from_config(program.config()).or_else(|| {
+        let extent = program.extent(&mut Silent);
+        extent.path_box.map(|_| extent.cut.stock_for(program.config()))
     });
-    made.cell = stock.map_or(1.0, |stock| args.resolution.unwrap_or(view_cell(&stock)));
-    let mut checker = stock.and_then(|stock| match simulation(stock, Some(made.cell), args.memory_limit, &config) {
+    made.cell = stock.map_or(1.0, |stock| options.resolution.unwrap_or(view_cell(&stock)));
+    let asked = Resolution { cell: Some(made.cell), memory_limit_mib: options.memory_limit_mib };
+    let simulation = stock.map(|stock| program.simulation(stock, asked));
+    let config = program.config().clone();
+    let mut checker = simulation.and_then(|simulation| match simulation {
         Ok(sim) => Some(Checker::new(&config, sim, &[])),
         Err(refused) => {
             made.problems.push(refused.message);
@@ -377,11 +386,12 @@ fn make(args: &ViewArgs, program: &Program) -> Made {
         }
     });
     let output = &mut made.output;
-    output.push_str(&preamble(&program.name, config.units));
+    output.push_str(&preamble(&opened.name, config.units));
     made.source_lines = vec![0; output.lines().count()];
     let emitter = Emitter::new(config.units.decimals(), true);
     let mut walker = Walker::new();
-    walk_events(&input, &config, &mut wizards, None, |event| {
+    // One pass makes the translation's text, the toolpath and the check.
+    program.for_each_event("checking", &mut Silent, |event| {
         match event {
             Event::Statement(statement) => {
                 emitter.write(output, &statement);
@@ -484,7 +494,7 @@ struct PathSummary {
 }
 
 /// The snapshot of what `make` made: JSON and binary, as sent.
-fn snapshot(version: u64, program: &Program, made: Made, elapsed_ms: u64) -> Snapshot {
+fn snapshot(version: u64, program: &Opened, made: Made, elapsed_ms: u64) -> Snapshot {
     let text = &*program.text;
     let columns = Columns::new(text);
     let mut diagnostics: Vec<JsonDiagnostic> = made
@@ -630,11 +640,11 @@ mod tests {
 
     #[test]
     fn statements_from_calls_belong_to_the_outermost_call() {
-        use ger_core::diag::Origin;
+        use ger_engine::core::diag::Origin;
         // A wizard called at line 3 of subprogram O200, which the program calls at line 12.
         let subprogram = Arc::new(Origin { what: "O200".into(), call: Span::new(12, 1, 4), parent: None });
         let wizard = Arc::new(Origin { what: "Pocket".into(), call: Span::new(3, 1, 6), parent: Some(subprogram) });
-        let mut statement = Statement::new(ger_core::statement::Kind::End, Span::new(3, 1, 6));
+        let mut statement = Statement::new(ger_engine::core::statement::Kind::End, Span::new(3, 1, 6));
         assert_eq!(outermost_line(&statement), 3);
         statement.origin = Some(wizard);
         assert_eq!(outermost_line(&statement), 12);

@@ -5,14 +5,14 @@
 # Reports the best of three runs: wall and CPU time, lines per CPU second and
 # peak memory (CPU time is steadier than wall time on a shared machine).
 #
-#   bench/translate.sh [LINES]     (default 1000000)
+#   host/bench/translate.sh [LINES]     (default 1000000)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 lines=${1:-1000000}
-out=bench/out
+out=host/bench/out
 mkdir -p "$out"
 program="$out/surface-$lines.ngc"
-[ -f "$program" ] || python3 bench/gen_surface.py "$lines" > "$program"
+[ -f "$program" ] || python3 host/bench/gen_surface.py "$lines" > "$program"
 cargo build --release -q -p ger
 ger=target/release/ger
 measure() { # NAME COMMAND... : the best of 3 runs: wall and CPU seconds, lines/s, peak RSS

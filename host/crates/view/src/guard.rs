@@ -1,7 +1,6 @@
 //! What `ger view`'s server lets through, judged from a request's head
-//! alone. A file of its own, needing only the `http` crate, so that the fuzz
-//! target `view_request` (host/fuzz) compiles it too and calls it on heads
-//! it reads from any bytes.
+//! alone (it needs only the `http` crate's types). Public so that the fuzz
+//! target `view_request` (host/fuzz) calls it on heads it reads from any bytes.
 
 use http::header::{HOST, ORIGIN};
 use http::{Method, Request, StatusCode, Version};

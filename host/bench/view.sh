@@ -6,10 +6,10 @@
 # the `snapshot` event, then to the state, heights and path fetched as the
 # page does; and the server's own `elapsed_ms`.
 #
-#   bench/view.sh [LINES...]     (default 10000 1000000)
+#   host/bench/view.sh [LINES...]     (default 10000 1000000)
 set -euo pipefail
-cd "$(dirname "$0")/.."
-out=bench/out
+cd "$(dirname "$0")/../.."
+out=host/bench/out
 mkdir -p "$out"
 cargo build --release -q -p ger
 ger=${CARGO_TARGET_DIR:-$PWD/target}/release/ger
@@ -24,9 +24,10 @@ now() { date +%s.%N; }
 pids=()
 trap 'kill "${pids[@]}" 2> /dev/null || true' EXIT
 echo "ger view on $(nproc) cores; seconds, best of 3"
-for lines in "${@:-10000 1000000}"; do
+[ $# -gt 0 ] || set -- 10000 1000000
+for lines in "$@"; do
   program="$out/surface-$lines.ngc"
-  [ -f "$program" ] || python3 bench/gen_surface.py "$lines" > "$program"
+  [ -f "$program" ] || python3 host/bench/gen_surface.py "$lines" > "$program"
   "$ger" view "$program" --config "$out/view.toml" --port 0 > "$out/view-address" &
   pids+=($!)
   until grep -q '^ger view: ' "$out/view-address"; do sleep 0.05; done

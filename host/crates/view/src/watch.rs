@@ -12,18 +12,17 @@ use std::time::Duration;
 
 use notify::{Event, EventKind, RecommendedWatcher, RecursiveMode, Watcher};
 
-use super::super::report::plain_error;
-use super::session::Session;
+use crate::session::Session;
+use crate::Error;
 
 /// Starts following `session`'s files on a thread of its own.
-pub(super) fn start(session: Arc<Session>) -> Result<(), String> {
+pub(crate) fn start(session: Arc<Session>) -> Result<(), Error> {
     let (tx, rx) = mpsc::channel();
-    let watcher = notify::recommended_watcher(tx)
-        .map_err(|err| plain_error(&format!("cannot watch for changes: {err}"), None))?;
+    let watcher = notify::recommended_watcher(tx)?;
     std::thread::Builder::new()
         .name("ger view watcher".to_string())
         .spawn(move || follow(watcher, &rx, &session))
-        .map_err(|err| plain_error(&format!("cannot watch for changes: {err}"), None))?;
+        .map_err(|source| Error::Start { what: "watch for changes", source })?;
     Ok(())
 }
 

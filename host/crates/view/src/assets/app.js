@@ -1,6 +1,6 @@
 // ger view: the page. Hand-written, no framework and no build step, so the
 // binary can embed it as is. The server's side of the conversation is
-// docs/view-api.md; this file only reads what that contract promises.
+// host/docs/view-api.md; this file only reads what that contract promises.
 //
 // Sections: helpers · matrices · virtual list · editor · 3D view · the app
 // (snapshots, selection, editing, live updates, keys).

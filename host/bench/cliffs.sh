@@ -8,11 +8,11 @@
 #      cell: the cost the cells really cut set);
 # each with [stock] size given and with the stock found from the program.
 #
-#   bench/cliffs.sh [MOVES]     (default 2000; GER=path times another build)
+#   host/bench/cliffs.sh [MOVES]     (default 2000; GER=path times another build)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 n=${1:-2000}
-out=bench/out
+out=host/bench/out
 mkdir -p "$out"
 if [ -z "${GER:-}" ]; then cargo build --release -q -p ger; fi
 ger=${GER:-$PWD/target/release/ger}

@@ -6,12 +6,12 @@
 #   2. a 1,000,000-line one: from opening the page to its first full draw.
 # Needs Chromium and node (see .ci/setup.d/30-chromium.sh).
 #
-#   bench/view-page.sh [SMALL_LINES] [LARGE_LINES]     (default 10000 1000000)
+#   host/bench/view-page.sh [SMALL_LINES] [LARGE_LINES]     (default 10000 1000000)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 small=${1:-10000}
 large=${2:-1000000}
-out=bench/out
+out=host/bench/out
 mkdir -p "$out"
 cargo build --release -q -p ger
 ger=${CARGO_TARGET_DIR:-$PWD/target}/release/ger
@@ -43,7 +43,7 @@ stop() { kill "$server"; wait "$server" 2>/dev/null || true; server=""; }
 echo "on $(nproc) cores; $(/usr/bin/chromium --version 2>/dev/null)"
 for lines in "$small" "$large"; do
   program="$out/view-surface-$lines.ngc"
-  python3 bench/gen_surface.py "$lines" > "$program"
+  python3 host/bench/gen_surface.py "$lines" > "$program"
   serve "$program"
   echo "== $lines lines ($(du -h "$program" | cut -f1))"
   if [ "$lines" = "$small" ]; then

@@ -1,0 +1,392 @@
+//! A program on a machine, and what ger answers about it. Each answer is one
+//! or more passes over the program, each streaming: statements are used as
+//! they come and never collected.
+
+use std::io;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use ger_check::{Checker, Rule, Verdict};
+use ger_core::config::{quoted, Bounds, Config, MAX_MEMORY_MIB};
+use ger_core::emit::Emitter;
+use ger_core::passes::{translate, Event, Options, LAST_STAGE};
+use ger_core::statement::Statement;
+use ger_core::wizard::{NoWizards, Wizards};
+use ger_render::label;
+use ger_render::pieces::{self, Piece};
+use ger_sim::{CutBounds, HeightField, Move, Point, Refusal, Simulation, Step, Stock, Tracker, Walker};
+
+use crate::library::library;
+use crate::progress::{Progress, Silent};
+use crate::report::Report;
+use crate::source::{Counting, Source};
+
+/// A program, the machine it runs on and the wizards it may call.
+pub struct Program {
+    source: Source,
+    config: Config,
+    wizards: Box<dyn Wizards>,
+}
+
+/// Where a program goes: what it cuts, and the box of all its moves.
+pub struct Extent {
+    /// What the translation and the tool tracking said on the way.
+    pub report: Report,
+    pub cut: CutBounds,
+    /// The box of every tool position; `None` when the program does not move.
+    pub path_box: Option<(Point, Point)>,
+}
+
+/// How finely to simulate, as the caller asks; what it leaves out comes from
+/// the config's `[render]`, else the defaults.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Resolution {
+    /// The side of a cell, in machine units.
+    pub cell: Option<f64>,
+    /// MiB the height field may take.
+    pub memory_limit_mib: Option<u64>,
+}
+
+/// Why no simulation could be made: the message, and whose number asked for it.
+#[derive(Debug, thiserror::Error)]
+#[error("{message}")]
+pub struct Refused {
+    pub message: String,
+    pub by: Culprit,
+}
+
+/// Whose number made a simulation impossible.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Culprit {
+    /// The caller's [`Resolution`].
+    Caller,
+    /// This key of the config's `[render]` table.
+    Config(&'static str),
+    /// The program, or the machine: no number anyone gave.
+    Neither,
+}
+
+/// The parts of a program a pass borrows: the machine may be lent to what
+/// follows the statements (a tool tracker) while the wizards are called.
+struct Parts<'p> {
+    source: &'p Source,
+    config: &'p Config,
+    wizards: &'p mut dyn Wizards,
+}
+
+impl<'p> Parts<'p> {
+    fn events(self, stage: u8, count: Option<Arc<AtomicU64>>) -> Box<dyn Iterator<Item = Event> + 'p> {
+        let library = library(self.source, &self.config.dialect);
+        let options = Options { config: self.config, stage, wizards: self.wizards };
+        let reader = self.source.open();
+        match count {
+            Some(count) => translate(Counting { inner: reader, count }, library, options),
+            None => translate(reader, library, options),
+        }
+    }
+
+    fn for_each_event(self, job: &'static str, progress: &mut dyn Progress, mut each: impl FnMut(Event) -> bool) {
+        let count = Arc::new(AtomicU64::new(0));
+        progress.begin(job, self.source.size());
+        for (n, event) in self.events(LAST_STAGE, Some(count.clone())).enumerate() {
+            if !each(event) {
+                break;
+            }
+            if n % 4096 == 0 {
+                progress.advance(count.load(Ordering::Relaxed));
+            }
+        }
+        progress.end();
+    }
+
+    fn walk(
+        self,
+        job: &'static str,
+        progress: &mut dyn Progress,
+        mut each: impl FnMut(&Statement, &mut Report) -> bool,
+    ) -> Report {
+        let mut report = Report::default();
+        self.for_each_event(job, progress, |event| match event {
+            Event::Statement(statement) => each(&statement, &mut report),
+            Event::Diagnostic(diagnostic) => {
+                report.add(diagnostic);
+                true
+            }
+        });
+        report
+    }
+}
+
+impl Program {
+    /// `source` on the machine `config` describes, calling no wizards.
+    pub fn new(source: Source, config: Config) -> Program {
+        Program { source, config, wizards: Box::new(NoWizards) }
+    }
+
+    /// The same program, calling `wizards` for the words it does not know.
+    pub fn with_wizards(self, wizards: Box<dyn Wizards>) -> Program {
+        Program { wizards, ..self }
+    }
+
+    pub fn source(&self) -> &Source {
+        &self.source
+    }
+
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn parts(&mut self) -> Parts<'_> {
+        Parts { source: &self.source, config: &self.config, wizards: &mut *self.wizards }
+    }
+
+    /// The translation after pass `stage` (0..=[`LAST_STAGE`]), as a stream of
+    /// statements and diagnostics in program order.
+    pub fn events(&mut self, stage: u8) -> impl Iterator<Item = Event> + '_ {
+        self.parts().events(stage, None)
+    }
+
+    /// Hands every event of the whole translation, statement or diagnostic,
+    /// to `each` in the order they come (which returns false to stop),
+    /// telling `progress` how much of the program the pass `job` has read.
+    pub fn for_each_event(&mut self, job: &'static str, progress: &mut dyn Progress, each: impl FnMut(Event) -> bool) {
+        self.parts().for_each_event(job, progress, each)
+    }
+
+    /// Hands every output statement to `each` (which returns false to stop,
+    /// and may add to the report); collects the diagnostics.
+    pub fn walk(
+        &mut self,
+        job: &'static str,
+        progress: &mut dyn Progress,
+        each: impl FnMut(&Statement, &mut Report) -> bool,
+    ) -> Report {
+        self.parts().walk(job, progress, each)
+    }
+
+    /// The translation after pass `stage` as G-code text, a line at a time
+    /// to `write`; collects the diagnostics.
+    pub fn write_translation(
+        &mut self,
+        stage: u8,
+        line_numbers: bool,
+        mut write: impl FnMut(&str) -> io::Result<()>,
+    ) -> io::Result<Report> {
+        // Before pass 01 the numbers are still in the program's own units, which may be finer.
+        let decimals = if stage == 0 { 4 } else { self.config.units.decimals() };
+        let emitter = Emitter::new(decimals, line_numbers);
+        let mut report = Report::default();
+        let mut line = String::new();
+        for event in self.events(stage) {
+            match event {
+                Event::Statement(statement) => {
+                    line.clear();
+                    emitter.write(&mut line, &statement);
+                    line.push('\n');
+                    write(&line)?;
+                }
+                Event::Diagnostic(diagnostic) => report.add(diagnostic),
+            }
+        }
+        Ok(report)
+    }
+
+    /// Every move of the translated program, in machine coordinates, to
+    /// `each` (which returns false to stop).
+    pub fn toolpath(&mut self, mut each: impl FnMut(&Move) -> bool) -> Report {
+        let mut walker = Walker::new();
+        self.walk("toolpath", &mut Silent, |statement, _| match walker.step(statement) {
+            Some(Step::Move(m)) => each(&m),
+            _ => true,
+        })
+    }
+
+    /// The toolpath as straight pieces (arcs split within `tolerance`), each
+    /// knowing the output line it is drawn for, as `ger view` draws it.
+    pub fn toolpath_pieces(&mut self, tolerance: f64) -> (Vec<Piece>, Report) {
+        let mut found = Vec::new();
+        let mut line = 0;
+        let mut walker = Walker::new();
+        let report = self.walk("toolpath", &mut Silent, |statement, _| {
+            line += 1;
+            if let Some(Step::Move(m)) = walker.step(statement) {
+                pieces::split(&m, line, tolerance, &mut found);
+            }
+            true
+        });
+        (found, report)
+    }
+
+    /// Where the program cuts, and the box of its path: a pass over it.
+    pub fn extent(&mut self, progress: &mut dyn Progress) -> Extent {
+        let mut cut = CutBounds::default();
+        let mut path_box: Option<(Point, Point)> = None;
+        let parts = self.parts();
+        let mut tracker = Tracker::new(&parts.config.tools);
+        let report = parts.walk("bounds", progress, |statement, report| {
+            match tracker.step(statement) {
+                Ok(Some(m)) => {
+                    cut.add(&m.segment, tracker.cutter().as_ref());
+                    let (lo, hi) = m.segment.bounds();
+                    let (l, h) = path_box.get_or_insert((lo, hi));
+                    for i in 0..3 {
+                        l[i] = l[i].min(lo[i]);
+                        h[i] = h[i].max(hi[i]);
+                    }
+                }
+                Ok(None) => {}
+                Err(diagnostic) => report.add(diagnostic),
+            }
+            true
+        });
+        Extent { report, cut, path_box }
+    }
+
+    /// The stock the config describes, or else (by a pass over the program)
+    /// the one around what it cuts, with that pass's report.
+    pub fn stock(&mut self, progress: &mut dyn Progress) -> (Stock, Report) {
+        match Stock::from_config(&self.config) {
+            Some(stock) => (stock, Report::default()),
+            None => {
+                let extent = self.extent(progress);
+                (extent.cut.stock_for(&self.config), extent.report)
+            }
+        }
+    }
+
+    /// The simulation of `stock` at the resolution asked for (or the config's,
+    /// or the default), unless it would not fit in memory: then the refusal
+    /// says what would.
+    pub fn simulation(&self, stock: Stock, asked: Resolution) -> Result<Simulation, Refused> {
+        simulation(stock, asked, &self.config)
+    }
+
+    /// The program cut out of `simulation`'s stock: the part, and the report
+    /// of the translation and the tools.
+    pub fn simulate(&mut self, mut simulation: Simulation, progress: &mut dyn Progress) -> (HeightField, Report) {
+        let parts = self.parts();
+        let mut tracker = Tracker::new(&parts.config.tools);
+        let report = parts.walk("cutting", progress, |statement, report| {
+            match tracker.step(statement) {
+                Ok(Some(m)) => {
+                    if let Some(cutter) = tracker.cutter() {
+                        simulation.cut(&m.segment, &cutter);
+                    }
+                }
+                Ok(None) => {}
+                Err(diagnostic) => report.add(diagnostic),
+            }
+            true
+        });
+        (simulation.finish(), report)
+    }
+
+    /// The verifier's verdict, cutting `simulation`'s stock: the translation's
+    /// diagnostics and the checks' (all but `allowed`), and the summary; and the part.
+    pub fn check(
+        &mut self,
+        simulation: Simulation,
+        allowed: &[Rule],
+        progress: &mut dyn Progress,
+    ) -> (Verdict, HeightField) {
+        let parts = self.parts();
+        let mut checker = Checker::new(parts.config, simulation, allowed);
+        parts.for_each_event("checking", progress, |event| {
+            match event {
+                Event::Statement(statement) => checker.statement(&statement),
+                Event::Diagnostic(diagnostic) => checker.translator(diagnostic),
+            }
+            true
+        });
+        checker.finish_with_part()
+    }
+}
+
+/// See [`Program::simulation`].
+fn simulation(stock: Stock, asked: Resolution, config: &Config) -> Result<Simulation, Refused> {
+    let unit = config.units.abbreviation();
+    let bounds = Bounds::of(config.units);
+    let refuse = |by, message| Err(Refused { message, by });
+    if asked.cell.is_some_and(|cell| !(bounds.smallest..=bounds.length).contains(&cell)) {
+        let message =
+            format!("--resolution must be from {} to {} {unit}", quoted(bounds.smallest), quoted(bounds.length));
+        return refuse(Culprit::Caller, message);
+    }
+    if asked.memory_limit_mib.is_some_and(|m| !(1..=MAX_MEMORY_MIB).contains(&m)) {
+        return refuse(Culprit::Caller, format!("--memory-limit must be from 1 to {MAX_MEMORY_MIB} MiB"));
+    }
+    let size = stock.size();
+    // A stock by margin is where the program goes: its coordinates may be anything.
+    if !size.cmple(Point::splat(bounds.length)).all() {
+        let message = format!(
+            "the stock would be {} x {} x {} {unit}, everything the program cuts with a margin of {} {unit} all \
+             round: over {} {unit}, more than any machine travels; check the program's coordinates, or give \
+             [stock] size in ger.toml",
+            label(size[0]),
+            label(size[1]),
+            label(size[2]),
+            label(config.stock_margin()),
+            label(bounds.length),
+        );
+        return refuse(Culprit::Neither, message);
+    }
+    let cell = asked.cell.or(config.render.scale.map(|s| 1.0 / s)).unwrap_or(stock.default_cell());
+    // Bounded above and by the config's validation: no overflow.
+    let limit = asked.memory_limit_mib.or(config.render.memory_limit_mb).unwrap_or(2048) << 20;
+    Simulation::new(stock, cell, limit).map_err(|refusal| match refusal {
+        Refusal::TooBig(too_big) => {
+            let by = if asked.cell.is_some() || asked.memory_limit_mib.is_some() {
+                Culprit::Caller
+            } else if config.render.scale.is_some() {
+                Culprit::Config("scale")
+            } else if config.render.memory_limit_mb.is_some() {
+                Culprit::Config("memory_limit_mb")
+            } else {
+                Culprit::Neither
+            };
+            let fits = match by {
+                Culprit::Config(_) => format!(
+                    "the most that fits is scale = {} (or raise memory_limit_mb)",
+                    // Cells per unit, rounded down so that it does fit.
+                    three_digits(1.0 / too_big.finest, f64::floor)
+                ),
+                _ => format!(
+                    "the finest that fits is --resolution {} (or raise --memory-limit)",
+                    three_digits(too_big.finest, f64::ceil)
+                ),
+            };
+            let message = format!(
+                "a resolution of {} {unit} needs {} MiB for the {} x {} {unit} stock, over the limit of {} MiB; {fits}",
+                label(cell),
+                too_big.needed >> 20,
+                label(size[0]),
+                label(size[1]),
+                too_big.limit >> 20,
+            );
+            Refused { message, by }
+        }
+        Refusal::OutOfMemory { needed } => Refused {
+            message: format!(
+                "cannot have the {} MiB the height field needs at a resolution of {} {unit}: the system refused \
+                 it; give a coarser --resolution or a lower --memory-limit",
+                needed >> 20,
+                label(cell)
+            ),
+            by: Culprit::Neither,
+        },
+    })
+}
+
+/// Three significant digits, rounded by `round` (up, so that the length
+/// quoted does fit; or down).
+fn three_digits(x: f64, round: fn(f64) -> f64) -> String {
+    let magnitude = x.log10().floor();
+    let p = 10f64.powf(magnitude - 2.0);
+    let decimals = (2.0 - magnitude).max(0.0) as usize;
+    let text = format!("{:.*}", decimals, round(x / p) * p);
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
