@@ -99,11 +99,11 @@ pub(crate) struct WizardOptions {
     pub wizard_memory: u32,
 }
 
-fn positive_seconds(text: &str) -> Result<f64, String> {
+fn positive_seconds(text: &str) -> Result<f64> {
     match text.parse::<f64>() {
         // Below a millisecond no call could run at all.
         Ok(s) if (0.001..=3600.0).contains(&s) => Ok(s),
-        _ => Err("expected a number of seconds from 0.001 to 3600".to_string()),
+        _ => anyhow::bail!("expected a number of seconds from 0.001 to 3600"),
     }
 }
 

@@ -117,7 +117,7 @@ impl Settings {
 }
 
 fn read(path: &Path, name: &str) -> Result<String, ReadError> {
-    std::fs::read_to_string(path).map_err(|source| ReadError { name: name.to_string(), source })
+    std::fs::read_to_string(path).map_err(|cause| ReadError { name: name.to_string(), cause })
 }
 
 /// The CAMotics project of the program: `NAME.camotics` beside `NAME.nc`,

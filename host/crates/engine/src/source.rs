@@ -18,11 +18,10 @@ pub enum Source {
 
 /// A program that could not be read.
 #[derive(Debug, thiserror::Error)]
-#[error("cannot read {name}: {source}")]
+#[error("cannot read {name}: {cause}")]
 pub struct ReadError {
     pub name: String,
-    #[source]
-    pub source: io::Error,
+    pub cause: io::Error,
 }
 
 impl Source {
@@ -32,7 +31,7 @@ impl Source {
         if path == Path::new("-") {
             return Source::stdin();
         }
-        File::open(path).map_err(|source| ReadError { name: path.display().to_string(), source })?;
+        File::open(path).map_err(|cause| ReadError { name: path.display().to_string(), cause })?;
         Ok(Source::File(path.to_path_buf()))
     }
 
@@ -41,7 +40,7 @@ impl Source {
         let mut buffer = Vec::new();
         io::stdin()
             .read_to_end(&mut buffer)
-            .map_err(|source| ReadError { name: "standard input".to_string(), source })?;
+            .map_err(|cause| ReadError { name: "standard input".to_string(), cause })?;
         Ok(Source::Stdin(buffer.into()))
     }
 

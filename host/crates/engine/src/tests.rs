@@ -31,8 +31,7 @@ fn statements(program: &mut Program, stage: u8) -> Vec<String> {
 #[test]
 fn events_are_the_translation_after_the_pass_asked_for() {
     // In a mm machine, the inch program is in inches until pass 01 converts it.
-    let mut config = Config::default();
-    config.units = Units::Mm;
+    let config = Config { units: Units::Mm, ..Config::default() };
     let mut program = Program::new(Source::text("slot.nc", ".", SLOT), config);
     let before = statements(&mut program, 0);
     let after = statements(&mut program, LAST_STAGE);

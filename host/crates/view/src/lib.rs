@@ -43,12 +43,12 @@ pub struct Options {
 /// Why `ger view` could not start or stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    #[error("cannot read {name}: {source}")]
-    Read { name: String, source: std::io::Error },
-    #[error("cannot {what}: {source}")]
-    Start { what: &'static str, source: std::io::Error },
+    #[error("cannot read {name}: {cause}")]
+    Read { name: String, cause: std::io::Error },
+    #[error("cannot {what}: {cause}")]
+    Start { what: &'static str, cause: std::io::Error },
     #[error("cannot watch for changes: {0}")]
-    Watch(#[from] notify::Error),
+    Watch(notify::Error),
     #[error("the server stopped: {0}")]
     Stopped(std::io::Error),
 }
@@ -57,7 +57,7 @@ pub enum Error {
 /// process ends; `ready` is called once the first snapshot is being made
 /// and the server is about to answer.
 pub fn serve(listener: TcpListener, options: Options, ready: impl FnOnce(u16)) -> Result<(), Error> {
-    let port = listener.local_addr().map_err(|source| Error::Start { what: "serve", source })?.port();
+    let port = listener.local_addr().map_err(|cause| Error::Start { what: "serve", cause })?.port();
     let session = session::Session::start(options)?;
     watch::start(session.clone())?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -65,7 +65,7 @@ pub fn serve(listener: TcpListener, options: Options, ready: impl FnOnce(u16)) -
         .enable_io()
         .enable_time()
         .build()
-        .map_err(|source| Error::Start { what: "start the server", source })?;
+        .map_err(|cause| Error::Start { what: "start the server", cause })?;
     ready(port);
     runtime.block_on(server::serve(listener, session, port)).map_err(Error::Stopped)
 }

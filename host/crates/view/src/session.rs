@@ -110,7 +110,7 @@ impl Session {
     /// Reads the program and starts the worker on its first snapshot.
     pub fn start(options: Options) -> Result<Arc<Session>, Error> {
         let given = &options.file;
-        let cannot = |source: io::Error| Error::Read { name: given.display().to_string(), source };
+        let cannot = |cause: io::Error| Error::Read { name: given.display().to_string(), cause };
         let file = given.canonicalize().map_err(cannot)?;
         let text: Arc<str> = std::fs::read_to_string(&file).map_err(cannot)?.into();
         let folder = file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
@@ -129,7 +129,7 @@ impl Session {
         std::thread::Builder::new()
             .name("ger view snapshots".to_string())
             .spawn(move || worker.work())
-            .map_err(|source| Error::Start { what: "start the snapshot worker", source })?;
+            .map_err(|cause| Error::Start { what: "start the snapshot worker", cause })?;
         Ok(session)
     }
 
@@ -320,21 +320,21 @@ fn slashed(path: &Path) -> String {
 
 /// A program file the page asked to read or write that could not be.
 #[derive(Debug, thiserror::Error)]
-#[error("cannot {action} {}: {source}", file.display())]
+#[error("cannot {action} {}: {cause}", file.display())]
 pub(crate) struct FileError {
     action: &'static str,
     file: PathBuf,
-    source: io::Error,
+    cause: io::Error,
 }
 
 fn read(file: &Path) -> Result<String, FileError> {
-    std::fs::read_to_string(file).map_err(|source| FileError { action: "read", file: file.to_path_buf(), source })
+    std::fs::read_to_string(file).map_err(|cause| FileError { action: "read", file: file.to_path_buf(), cause })
 }
 
 /// Writes the file whole (see `ger_output`): never half-written, keeping its mode.
 fn write_whole(file: &Path, text: &[u8]) -> Result<(), FileError> {
     let written = OutputFile::create(file).and_then(|mut output| output.write_all(text).and_then(|()| output.commit()));
-    written.map_err(|source| FileError { action: "write", file: file.to_path_buf(), source })
+    written.map_err(|cause| FileError { action: "write", file: file.to_path_buf(), cause })
 }
 
 /// What a translation, check and simulation of a program made.

@@ -18,11 +18,11 @@ use crate::Error;
 /// Starts following `session`'s files on a thread of its own.
 pub(crate) fn start(session: Arc<Session>) -> Result<(), Error> {
     let (tx, rx) = mpsc::channel();
-    let watcher = notify::recommended_watcher(tx)?;
+    let watcher = notify::recommended_watcher(tx).map_err(Error::Watch)?;
     std::thread::Builder::new()
         .name("ger view watcher".to_string())
         .spawn(move || follow(watcher, &rx, &session))
-        .map_err(|source| Error::Start { what: "watch for changes", source })?;
+        .map_err(|cause| Error::Start { what: "watch for changes", cause })?;
     Ok(())
 }
 

@@ -41,10 +41,17 @@ impl Catalog {
     }
 }
 
+/// A wizards directory that cannot be read.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot read the wizards directory {}: {cause}", dir.display())]
+pub struct ScanError {
+    pub dir: std::path::PathBuf,
+    pub cause: std::io::Error,
+}
+
 /// Looks through `dir` (not its subfolders' subfolders).
-pub fn scan(dir: &Path) -> Result<Catalog, String> {
-    let read =
-        std::fs::read_dir(dir).map_err(|err| format!("cannot read the wizards directory {}: {err}", dir.display()))?;
+pub fn scan(dir: &Path) -> Result<Catalog, ScanError> {
+    let read = std::fs::read_dir(dir).map_err(|cause| ScanError { dir: dir.to_path_buf(), cause })?;
     let mut entries = BTreeMap::new();
     for item in read.flatten() {
         let path = item.path();
@@ -96,6 +103,9 @@ mod tests {
         let entry = catalog.find("BoltCircle").unwrap();
         assert_eq!(entry.wasm, dir.path().join("bolt-circle.wasm"));
         assert!(catalog.find("face").unwrap().source.is_none());
-        assert!(scan(&dir.path().join("missing")).unwrap_err().contains("cannot read the wizards directory"));
+        assert!(scan(&dir.path().join("missing"))
+            .unwrap_err()
+            .to_string()
+            .contains("cannot read the wizards directory"));
     }
 }

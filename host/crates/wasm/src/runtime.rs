@@ -294,7 +294,7 @@ impl WasmWizards {
     }
 
     /// The wizards in the directory, built where needed (if building is on).
-    pub fn catalog(&mut self) -> Result<&Catalog, String> {
+    pub fn catalog(&mut self) -> Result<&Catalog, catalog::ScanError> {
         if self.catalog.is_none() {
             self.catalog = Some(catalog::scan(&self.dir)?);
         }
@@ -335,7 +335,7 @@ impl WasmWizards {
             let message = format!("no wizard named `{shown}` to run this call");
             return Err(Diagnostic::error(span, message).with_help(wizard_help(name)));
         }
-        let catalog = self.catalog().map_err(|message| Diagnostic::error(span, message))?;
+        let catalog = self.catalog().map_err(|err| Diagnostic::error(span, err.to_string()))?;
         let Some(entry) = catalog.find(name).cloned() else {
             let known = catalog.names().join(", ");
             let help = if known.is_empty() {
