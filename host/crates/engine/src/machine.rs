@@ -50,11 +50,9 @@ impl ConfigError {
     pub fn render(&self, styled: bool) -> String {
         match self {
             ConfigError::Invalid { name, text, diagnostic } => {
-                let mut report = Report::default();
+                let mut report = Report::default().failing_as("bad configuration");
                 report.add(diagnostic.clone());
-                report
-                    .render(name, text.as_bytes(), styled)
-                    .replace("could not translate the program", "bad configuration")
+                report.render(name, text.as_bytes(), styled)
             }
             other => format!("error: {other}\n"),
         }

@@ -14,7 +14,7 @@ use ger_core::statement::Statement;
 use ger_core::wizard::{NoWizards, Wizards};
 use ger_render::label;
 use ger_render::pieces::{self, Piece};
-use ger_sim::{CutBounds, HeightField, Move, Point, Refusal, Simulation, Step, Stock, Tracker, Walker};
+use ger_sim::{CutBounds, Cutter, HeightField, Move, Point, Refusal, Simulation, Step, Stock, Tracker, Walker};
 
 use crate::library::library;
 use crate::progress::{Progress, Silent};
@@ -75,20 +75,17 @@ struct Parts<'p> {
 }
 
 impl<'p> Parts<'p> {
-    fn events(self, stage: u8, count: Option<Arc<AtomicU64>>) -> Box<dyn Iterator<Item = Event> + 'p> {
+    /// The translation after `stage`; `count` follows the bytes of the program read.
+    fn events(self, stage: u8, count: Arc<AtomicU64>) -> Box<dyn Iterator<Item = Event> + 'p> {
         let library = library(self.source, &self.config.dialect);
         let options = Options { config: self.config, stage, wizards: self.wizards };
-        let reader = self.source.open();
-        match count {
-            Some(count) => translate(Counting { inner: reader, count }, library, options),
-            None => translate(reader, library, options),
-        }
+        translate(Counting { inner: self.source.open(), count }, library, options)
     }
 
     fn for_each_event(self, job: &'static str, progress: &mut dyn Progress, mut each: impl FnMut(Event) -> bool) {
         let count = Arc::new(AtomicU64::new(0));
         progress.begin(job, self.source.size());
-        for (n, event) in self.events(LAST_STAGE, Some(count.clone())).enumerate() {
+        for (n, event) in self.events(LAST_STAGE, count.clone()).enumerate() {
             if !each(event) {
                 break;
             }
@@ -114,6 +111,26 @@ impl<'p> Parts<'p> {
             }
         });
         report
+    }
+
+    /// Hands every move of the translation to `each`, with the tool that
+    /// makes it (none before the first tool change); collects the
+    /// translation's diagnostics and the tracker's (a tool not in the table).
+    fn moves(
+        self,
+        job: &'static str,
+        progress: &mut dyn Progress,
+        mut each: impl FnMut(&Move, Option<Cutter>),
+    ) -> Report {
+        let mut tracker = Tracker::new(&self.config.tools);
+        self.walk(job, progress, |statement, report| {
+            match tracker.step(statement) {
+                Ok(Some(m)) => each(&m, tracker.cutter()),
+                Ok(None) => {}
+                Err(diagnostic) => report.add(diagnostic),
+            }
+            true
+        })
     }
 }
 
@@ -143,7 +160,7 @@ impl Program {
     /// The translation after pass `stage` (0..=[`LAST_STAGE`]), as a stream of
     /// statements and diagnostics in program order.
     pub fn events(&mut self, stage: u8) -> impl Iterator<Item = Event> + '_ {
-        self.parts().events(stage, None)
+        self.parts().events(stage, Arc::default())
     }
 
     /// Hands every event of the whole translation, statement or diagnostic,
@@ -201,8 +218,9 @@ impl Program {
         })
     }
 
-    /// The toolpath as straight pieces (arcs split within `tolerance`), each
-    /// knowing the output line it is drawn for, as `ger view` draws it.
+    /// The toolpath as straight pieces (arcs split within `tolerance`), as
+    /// `ger view` draws it; each piece's `line` is the number of the statement
+    /// of the translation that made it (1 for the first).
     pub fn toolpath_pieces(&mut self, tolerance: f64) -> (Vec<Piece>, Report) {
         let mut found = Vec::new();
         let mut line = 0;
@@ -221,23 +239,10 @@ impl Program {
     pub fn extent(&mut self, progress: &mut dyn Progress) -> Extent {
         let mut cut = CutBounds::default();
         let mut path_box: Option<(Point, Point)> = None;
-        let parts = self.parts();
-        let mut tracker = Tracker::new(&parts.config.tools);
-        let report = parts.walk("bounds", progress, |statement, report| {
-            match tracker.step(statement) {
-                Ok(Some(m)) => {
-                    cut.add(&m.segment, tracker.cutter().as_ref());
-                    let (lo, hi) = m.segment.bounds();
-                    let (l, h) = path_box.get_or_insert((lo, hi));
-                    for i in 0..3 {
-                        l[i] = l[i].min(lo[i]);
-                        h[i] = h[i].max(hi[i]);
-                    }
-                }
-                Ok(None) => {}
-                Err(diagnostic) => report.add(diagnostic),
-            }
-            true
+        let report = self.parts().moves("bounds", progress, |m, cutter| {
+            cut.add(&m.segment, cutter.as_ref());
+            let (lo, hi) = m.segment.bounds();
+            path_box = Some(path_box.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
         });
         Extent { report, cut, path_box }
     }
@@ -264,19 +269,10 @@ impl Program {
     /// The program cut out of `simulation`'s stock: the part, and the report
     /// of the translation and the tools.
     pub fn simulate(&mut self, mut simulation: Simulation, progress: &mut dyn Progress) -> (HeightField, Report) {
-        let parts = self.parts();
-        let mut tracker = Tracker::new(&parts.config.tools);
-        let report = parts.walk("cutting", progress, |statement, report| {
-            match tracker.step(statement) {
-                Ok(Some(m)) => {
-                    if let Some(cutter) = tracker.cutter() {
-                        simulation.cut(&m.segment, &cutter);
-                    }
-                }
-                Ok(None) => {}
-                Err(diagnostic) => report.add(diagnostic),
+        let report = self.parts().moves("cutting", progress, |m, cutter| {
+            if let Some(cutter) = cutter {
+                simulation.cut(&m.segment, &cutter);
             }
-            true
         });
         (simulation.finish(), report)
     }

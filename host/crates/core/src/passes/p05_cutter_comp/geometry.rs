@@ -17,11 +17,6 @@ const NOISE: f64 = 1e-9;
 /// counter-clockwise).
 pub type Point = glam::DVec2;
 
-/// The direction of `v` from the X axis, in (-π, π].
-fn angle(v: Point) -> f64 {
-    v.y.atan2(v.x)
-}
-
 /// The unit normal on the tool's side of a path running along `tangent`.
 pub fn normal(side: Side, tangent: Point) -> Point {
     match side {
@@ -69,7 +64,7 @@ impl Segment {
     /// The arc from `start` to `end` about `centre`; a full circle when the
     /// two ends are the same point.
     pub fn arc(start: Point, end: Point, centre: Point, ccw: bool) -> Segment {
-        let turn = angle(end - centre) - angle(start - centre);
+        let turn = (end - centre).to_angle() - (start - centre).to_angle();
         let sweep = if start.distance(end) <= NOISE {
             TAU
         } else if ccw {
@@ -155,7 +150,7 @@ impl Segment {
             Segment::Arc { start, end, centre, ccw, sweep } => {
                 // Angles turned in the arc's own direction.
                 let turn = |p: Point, q: Point| {
-                    let a = principal(angle(q - centre) - angle(p - centre));
+                    let a = principal((q - centre).to_angle() - (p - centre).to_angle());
                     if ccw {
                         a
                     } else {
