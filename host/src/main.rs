@@ -4,5 +4,7 @@
 mod cli;
 
 fn main() {
-    std::process::exit(cli::main());
+    let code = cli::main();
+    ger_output::end_as_signalled();
+    std::process::exit(code);
 }

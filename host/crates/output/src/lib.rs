@@ -76,6 +76,25 @@ fn live() -> MutexGuard<'static, Vec<PathBuf>> {
     LIVE.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
+/// The signal that came while a temporary file existed (0: none), set in
+/// the signal handler itself, so that it is seen even when the work ends
+/// before the thread that acts on the signal has run.
+#[cfg(unix)]
+static CAUGHT: std::sync::LazyLock<std::sync::Arc<std::sync::atomic::AtomicUsize>> =
+    std::sync::LazyLock::new(Default::default);
+
+/// Removes the temporary files, then ends as `signal` would have.
+#[cfg(unix)]
+fn end_by(signal: libc::c_int) -> ! {
+    // Held to the end: no commit can rename a file once this has started.
+    let live = live();
+    for path in live.iter() {
+        let _ = std::fs::remove_file(path);
+    }
+    let _ = signal_hook::low_level::emulate_default_handler(signal);
+    std::process::exit(128 + signal)
+}
+
 /// On Ctrl-C, SIGTERM or SIGHUP: remove the temporary files, then end as
 /// the signal would have. Installed with the first temporary file.
 #[cfg(unix)]
@@ -92,20 +111,28 @@ fn remove_on_signal() {
             queried && action.sa_sigaction == libc::SIG_IGN
         };
         let wanted: Vec<_> = [SIGINT, SIGTERM, SIGHUP].into_iter().filter(|s| !ignored(*s)).collect();
+        for signal in &wanted {
+            let _ = signal_hook::flag::register_usize(*signal, CAUGHT.clone(), *signal as usize);
+        }
         // Without the handler a signal still ends ger; only the temporary file would stay.
         let Ok(mut signals) = signal_hook::iterator::Signals::new(wanted) else { return };
         let _ = std::thread::Builder::new().name("ger signals".to_string()).spawn(move || {
             if let Some(signal) = signals.forever().next() {
-                // Held to the end: no commit can rename a file once this has started.
-                let live = live();
-                for path in live.iter() {
-                    let _ = std::fs::remove_file(path);
-                }
-                let _ = signal_hook::low_level::emulate_default_handler(signal);
-                std::process::exit(128 + signal);
+                end_by(signal);
             }
         });
     });
+}
+
+/// Ends ger as the signal would have, if one came while an output was being
+/// written: called last, so that a Ctrl-C during the run is never answered
+/// by a normal exit because the work happened to finish first.
+pub fn end_as_signalled() {
+    #[cfg(unix)]
+    match CAUGHT.load(std::sync::atomic::Ordering::SeqCst) {
+        0 => {}
+        signal => end_by(signal as libc::c_int),
+    }
 }
 
 #[cfg(not(unix))]
