@@ -40,8 +40,8 @@ pub enum ConfigError {
     /// A value of a config file that cannot be used, at its place in `text`.
     #[error("bad configuration {name}:{}:{}: {}", diagnostic.span.line, diagnostic.span.col, diagnostic.message)]
     Invalid { name: String, text: String, diagnostic: Diagnostic },
-    #[error("bad CAMotics project {name}: {message}")]
-    Project { name: String, message: String },
+    #[error("bad CAMotics project {name}: {cause}")]
+    Project { name: String, cause: tools::camotics::ProjectError },
 }
 
 impl ConfigError {
@@ -128,7 +128,7 @@ fn project(source: &Source) -> Result<Option<(String, tools::camotics::Project)>
         let name = own.display().to_string();
         let text = read(&own, &name)?;
         let project =
-            tools::camotics::parse(&text).map_err(|message| ConfigError::Project { name: name.clone(), message })?;
+            tools::camotics::parse(&text).map_err(|cause| ConfigError::Project { name: name.clone(), cause })?;
         return Ok(Some((name, project)));
     }
     let Some(file_name) = program.file_name().and_then(|n| n.to_str()) else { return Ok(None) };

@@ -65,24 +65,45 @@ struct FileBounds {
     max: [f64; 3],
 }
 
+/// A project ger cannot use, and where in it the mistake is.
+#[derive(Debug, thiserror::Error)]
+pub enum ProjectError {
+    /// Not JSON, or not the shape of a project (serde_json's message says the line and column).
+    #[error("{0}")]
+    Json(serde_json::Error),
+    #[error("units must be \"metric\" or \"imperial\", not \"{0}\"")]
+    Units(String),
+    #[error("tool \"{0}\": a tool's key must be its number")]
+    ToolKey(String),
+    #[error("tool {number}: {problem}")]
+    Tool { number: u32, problem: Box<ProjectError> },
+    #[error("diameter and length must be above zero")]
+    Size,
+    #[error("unknown shape \"{0}\"")]
+    Shape(String),
+    #[error("workpiece: the margin must be zero or more")]
+    Margin,
+    #[error("workpiece: its bounds must have max above min on every axis")]
+    Bounds,
+}
+
 /// Millimetres per unit of a project's "units".
-fn millimetres(units: Option<&str>) -> Result<f64, String> {
+fn millimetres(units: Option<&str>) -> Result<f64, ProjectError> {
     match units.unwrap_or("metric") {
         "metric" => Ok(1.0),
         "imperial" => Ok(25.4),
-        other => Err(format!("units must be \"metric\" or \"imperial\", not \"{other}\"")),
+        other => Err(ProjectError::Units(other.to_string())),
     }
 }
 
 /// Reads a project's text; a mistake is reported with its line and column, or the tool it is in.
-pub fn parse(text: &str) -> Result<Project, String> {
-    let file: File =
-        serde_json::from_str(text).map_err(|err| format!("line {} column {}: {err}", err.line(), err.column()))?;
+pub fn parse(text: &str) -> Result<Project, ProjectError> {
+    let file: File = serde_json::from_str(text).map_err(ProjectError::Json)?;
     let project_scale = millimetres(file.units.as_deref())?;
     let mut tools = Vec::new();
     for (key, entry) in &file.tools {
-        let number: u32 = key.parse().map_err(|_| format!("tool \"{key}\": a tool's key must be its number"))?;
-        let fail = |what: String| format!("tool {number}: {what}");
+        let number: u32 = key.parse().map_err(|_| ProjectError::ToolKey(key.clone()))?;
+        let fail = |problem| ProjectError::Tool { number, problem: Box::new(problem) };
         let scale = match &entry.units {
             Some(units) => millimetres(Some(units)).map_err(fail)?,
             None => project_scale,
@@ -92,7 +113,7 @@ pub fn parse(text: &str) -> Result<Project, String> {
         let diameter = entry.diameter.map_or(if imperial { 3.175 } else { 2.0 }, |d| d * scale);
         let length = entry.length.map_or(if imperial { 25.4 } else { 10.0 }, |l| l * scale);
         if !(diameter > 0.0 && diameter.is_finite() && length > 0.0 && length.is_finite()) {
-            return Err(fail("diameter and length must be above zero".to_string()));
+            return Err(fail(ProjectError::Size));
         }
         let radius = diameter / 2.0;
         let (kind, tip_angle) = match entry.shape.as_deref().unwrap_or("cylindrical") {
@@ -106,7 +127,7 @@ pub fn parse(text: &str) -> Result<Project, String> {
                 let snub = entry.snub_diameter.map_or(0.0, |d| d * scale).clamp(0.0, diameter);
                 (ToolKind::Drill, Some(2.0 * (radius - snub / 2.0).atan2(length).to_degrees()))
             }
-            other => return Err(fail(format!("unknown shape \"{other}\""))),
+            other => return Err(fail(ProjectError::Shape(other.to_string()))),
         };
         let tip_angle = tip_angle.filter(|a| *a > 0.0);
         let flute_length = Some(length);
@@ -115,13 +136,13 @@ pub fn parse(text: &str) -> Result<Project, String> {
     let workpiece = match file.workpiece {
         Some(w) if w.automatic => {
             if !(w.margin >= 0.0 && w.margin.is_finite()) {
-                return Err("workpiece: the margin must be zero or more".to_string());
+                return Err(ProjectError::Margin);
             }
             Some(Workpiece::Automatic { margin_percent: w.margin })
         }
         Some(FileWorkpiece { bounds: Some(FileBounds { min, max }), .. }) => {
             if !(0..3).all(|i| min[i].is_finite() && max[i].is_finite() && max[i] > min[i]) {
-                return Err("workpiece: its bounds must have max above min on every axis".to_string());
+                return Err(ProjectError::Bounds);
             }
             Some(Workpiece::Bounds { min, max })
         }
@@ -209,7 +230,7 @@ mod tests {
             (r#"{ "workpiece": { "bounds": { "min": [0, 0, 0], "max": [1, 0, 1] } } }"#, "max above min"),
             (r#"{ "tools": [1, 2] }"#, "line 1"),
         ] {
-            let err = parse(text).unwrap_err();
+            let err = parse(text).unwrap_err().to_string();
             assert!(err.contains(words), "{text}: {err}");
         }
     }
