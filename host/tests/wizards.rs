@@ -297,6 +297,26 @@ fn a_new_wizard_builds_and_runs_unchanged_and_is_listed() {
 }
 
 #[test]
+fn the_examples_in_other_languages_build_from_the_default_folder() {
+    // As the README has a new user do it: in the repository, with `--wizards`
+    // left at its default, a relative path (jco once resolved it twice).
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["wizard", "build", "circle", "slot"])
+        .current_dir(repo("."))
+        .env("NO_COLOR", "1")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{err}");
+    for built in ["built wizards/circle.wasm", "built wizards/slot.wasm"] {
+        assert!(err.contains(built), "{err}");
+    }
+    let (lines, diagnostics) = run("wizards", &mm(""), "G21 G90\nG00 X0 Y0 Z1\nF100\nCircle 5 1\nM30\n");
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    assert!(lines.iter().any(|l| l.starts_with("G02") || l.starts_with("G03")), "{lines:?}");
+}
+
+#[test]
 fn watch_translates_again_when_the_program_or_a_wizard_changes() {
     use std::io::BufRead;
     let dir = tempfile::tempdir().unwrap();

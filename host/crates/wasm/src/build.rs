@@ -142,10 +142,15 @@ pub fn build(
     progress(&format!("building wizard `{name}` ({})", source.language.name()));
     // The compiler writes the file itself: the regular-file rule of `ger_output`, by path.
     let temp = Replacement::new(wasm).map_err(|err| io_error("cannot write", wasm, &err))?;
+    // The tools are handed absolute paths: each resolves a relative one
+    // against a folder of its own choosing (jco against the entry's).
+    let absolute = |path: &Path| std::path::absolute(path).map_err(|err| io_error("cannot find", path, &err));
+    let source = Source { dir: absolute(&source.dir)?, language: source.language };
+    let (work, ger, out) = (absolute(&work)?, absolute(&ger)?, absolute(temp.path())?);
     match source.language {
-        Language::Rust => build_rust(source, &work, temp.path(), progress)?,
-        Language::Python => build_python(source, &ger, temp.path(), progress)?,
-        Language::JavaScript => build_javascript(source, &ger, temp.path(), progress)?,
+        Language::Rust => build_rust(&source, &work, &out, progress)?,
+        Language::Python => build_python(&source, &ger, &out, progress)?,
+        Language::JavaScript => build_javascript(&source, &ger, &out, progress)?,
     }
     temp.commit().map_err(|err| io_error("cannot write", wasm, &err))?;
     Ok(())
