@@ -122,10 +122,33 @@ fn pocket_stays_inside_covers_the_floor_and_never_goes_too_deep() {
     }
     assert!(checked > 50_000, "{checked}");
     assert!(missed.is_empty(), "{} points not cut, e.g. {:?}", missed.len(), &missed[..missed.len().min(5)]);
-    // Three levels of at most 4: 4, 8, 10.
+    // Three levels of at most 4: 4, 8, 10, each cut level.
     let levels: std::collections::BTreeSet<i64> =
-        moves.iter().filter(|m| m.0 == 1).map(|m| (m.2[2] * 1000.0).round() as i64).collect();
+        moves.iter().filter(|m| m.0 == 1 && m.1[2] == m.2[2]).map(|m| (m.2[2] * 1000.0).round() as i64).collect();
     assert_eq!(levels.into_iter().collect::<Vec<_>>(), [-10_000, -8_000, -4_000]);
+    // Down to each by ramps along the first row, never steeper than 3 degrees, never straight down.
+    for (mode, a, b) in moves.iter().filter(|m| m.0 == 1 && m.1[2] != m.2[2]) {
+        let run = (b[0] - a[0]).hypot(b[1] - a[1]);
+        assert!(run > 0.0 && (a[2] - b[2]) / run <= 3f64.to_radians().tan() + 1e-9, "G0{mode} {a:?} -> {b:?}");
+        assert!(
+            (a[1] - (y0 + r)).abs() < eps && (b[1] - (y0 + r)).abs() < eps,
+            "not along the first row: {a:?} -> {b:?}"
+        );
+    }
+}
+
+#[test]
+fn the_example_pocket_passes_the_check_with_warnings_denied() {
+    // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["check", "--deny", "warnings", "--quiet", "host/examples/pocket.ngc"])
+        .current_dir(repo("."))
+        .env("NO_COLOR", "1")
+        .output()
+        .unwrap();
+    let (out, err) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert!(output.status.success(), "{out}{err}");
+    assert!(!err.contains("warning") && !out.contains("warning"), "{out}{err}");
 }
 
 #[test]

@@ -5,7 +5,8 @@
 //! contract (`wit/wizard.wit`) and wit-bindgen stay out of sight: a wizard
 //! sees plain Rust types ([`State`], [`Arg`], [`Statement`]) and builds its
 //! output with [`g0`], [`g1`], [`g2`], [`g3`], [`g`], [`m`], [`comment`] and
-//! [`call`].
+//! [`call`]; [`entry`] takes a cutter down into material by a ramp or a
+//! helix instead of a plunge.
 //!
 //! ```no_run
 //! use ger_wizard_sdk::*;
@@ -35,6 +36,7 @@
 
 mod args;
 mod block;
+pub mod entry;
 mod state;
 
 pub use args::{Arg, Args};

@@ -1,9 +1,11 @@
-//! `Pocket LENGTH WIDTH DEPTH [STEPDOWN]`: clears a rectangular pocket.
+//! `Pocket LENGTH WIDTH DEPTH [STEPDOWN] [RAMP]`: clears a rectangular pocket.
 //!
 //! The pocket's lower-left corner is at the current XY and its top at the
-//! current Z. Each level (STEPDOWN apart, the last exactly at DEPTH) is
-//! cleared by a zigzag along X whose rows are at most 60% of the tool's
-//! diameter apart, then a finishing pass along the walls. The tool's centre
+//! current Z. The tool goes down to each level (STEPDOWN apart, the last
+//! exactly at DEPTH) by a ramp along the first row, no steeper than RAMP
+//! degrees (along Y when the pocket is only the tool's length), never
+//! straight down; the level is cleared by a zigzag along X whose rows are at
+//! most 60% of the tool's diameter apart, then a finishing pass along the walls. The tool's centre
 //! stays inset from the walls by its radius, so it cuts exactly to them.
 //! Afterwards the tool is back at the call's position, in the call's modes.
 
@@ -20,12 +22,13 @@ impl Wizard for Pocket {
         Description::new(
             "Pocket",
             "clears a rectangular pocket from the current position (its lower-left corner, at its top)",
-            "Pocket LENGTH WIDTH DEPTH [STEPDOWN]",
+            "Pocket LENGTH WIDTH DEPTH [STEPDOWN] [RAMP]",
         )
         .param("LENGTH", "size along X")
         .param("WIDTH", "size along Y")
         .param("DEPTH", "depth below the current Z")
         .optional("STEPDOWN", "depth of cut per level (default: the tool's diameter)")
+        .optional("RAMP", "steepest entry into each level, in degrees (default 3)")
     }
 
     fn expand(args: &Args, state: &State) -> Result<Vec<Statement>, String> {
@@ -34,6 +37,7 @@ impl Wizard for Pocket {
         let depth = args.positive(2)?;
         let tool = state.require_tool()?;
         let stepdown = args.optional_positive(3)?.unwrap_or(tool.diameter);
+        let ramp = args.optional_positive(4)?.unwrap_or(entry::DEFAULT_ENTRY_ANGLE);
         if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
             return Err(format!("T{} is a drill; a pocket needs an end mill", tool.number));
         }
@@ -44,15 +48,32 @@ impl Wizard for Pocket {
                 tool.number
             ));
         }
+        if d == length && d == width {
+            return Err(format!(
+                "the pocket is the tool's size (T{}, diameter {d}): there is no room to ramp down; drill it",
+                tool.number
+            ));
+        }
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling Pocket")?;
-        Ok(plan(state.position, [length, width, depth], stepdown, d, feed, state.distance))
+        let cut = Cut { diameter: d, stepdown, ramp, feed };
+        plan(state.position, [length, width, depth], &cut, state.distance)
     }
 }
 
+/// How the pocket is cut: the tool's diameter, the depth of a level, the
+/// steepest entry in degrees, the feed.
+pub struct Cut {
+    pub diameter: f64,
+    pub stepdown: f64,
+    pub ramp: f64,
+    pub feed: f64,
+}
+
 /// The tool path; lengths in program units, `corner` the lower-left top corner.
-pub fn plan(corner: [f64; 3], size: [f64; 3], stepdown: f64, diameter: f64, feed: f64, distance: Distance) -> Vec<Statement> {
+pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut, distance: Distance) -> Result<Vec<Statement>, String> {
     let [x0, y0, top] = corner;
     let [length, width, depth] = size;
+    let Cut { diameter, stepdown, ramp, feed } = *cut;
     let r = diameter / 2.0;
     let (xa, xb, ya, yb) = (x0 + r, x0 + length - r, y0 + r, y0 + width - r);
     let levels = (depth / stepdown).ceil().max(1.0) as u32;
@@ -65,10 +86,14 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], stepdown: f64, diameter: f64, feed
         out.push(g(90).into());
     }
     out.push(g0().xy(xa, ya).into());
+    // Along the first row, or up the first column of a pocket the tool's length.
+    let ramp_end = if xb > xa { [xb, ya] } else { [xa, yb] };
+    let mut above = top;
     for level in 1..=levels {
         // The last level lands exactly on DEPTH, whatever the rounding.
         let z = if level == levels { top - depth } else { top - f64::from(level) * stepdown };
-        out.push(g1().z(z).f(feed).into());
+        out.extend(entry::ramp([xa, ya], ramp_end, above, z, ramp, feed)?);
+        above = z;
         for row in 0..rows {
             let y = if rows == 1 { ya } else { ya + (yb - ya) * f64::from(row) / f64::from(rows - 1) };
             if row > 0 {
@@ -88,7 +113,7 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], stepdown: f64, diameter: f64, feed
     if distance == Distance::Incremental {
         out.push(g(91).into());
     }
-    out
+    Ok(out)
 }
 
 export_wizard!(Pocket);
