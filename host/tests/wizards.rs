@@ -137,6 +137,78 @@ fn pocket_stays_inside_covers_the_floor_and_never_goes_too_deep() {
     }
 }
 
+/// `ger check --deny warnings --format json` of `program` with `config`: its status and report.
+fn denied_check(program: &str, config: &str) -> (Option<i32>, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("part.ngc"), program).unwrap();
+    std::fs::write(dir.path().join("ger.toml"), config).unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["check", "--deny", "warnings", "--quiet", "--format", "json", "--no-build", "--wizards"])
+        .arg(repo("wizards"))
+        .arg("part.ngc")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let report = serde_json::from_slice(&output.stdout)
+        .unwrap_or_else(|_| panic!("{}", String::from_utf8_lossy(&output.stderr)));
+    (output.status.code(), report)
+}
+
+#[test]
+fn circle_pocket_helixes_down_and_cuts_its_circle_to_the_wall() {
+    let (cx, cy, diameter, depth) = (40.0, 30.0, 30.0, 8.0);
+    for (tool, d) in [("endmill", 6.0), ("ballmill", 4.0)] {
+        let tools = format!("[[tools]]\nnumber = 1\nkind = \"{tool}\"\ndiameter = {d}\nflute_length = 20\n");
+        let program = format!(
+            "G21 G90\nM06 T1\nM03 S12000\nG00 X{cx} Y{cy} Z5\nG01 Z0 F300\nCirclePocket {diameter} {depth} 4\nG00 Z5\nM05\nM30\n"
+        );
+        let (lines, diagnostics) = run("wizards", &mm(&tools), &program);
+        assert!(diagnostics.is_empty(), "{diagnostics:?}");
+        // Radially, every point of the floor is within the tool's radius of a circle cut at full depth.
+        let r = d / 2.0;
+        let mut at_floor = Vec::new();
+        let mut z = 0.0;
+        for line in &lines {
+            let word = |letter: char| {
+                line.split_whitespace().find(|w| w.starts_with(letter)).and_then(|w| w[1..].parse::<f64>().ok())
+            };
+            z = word('Z').unwrap_or(z);
+            if line.starts_with("G03") && (z + depth).abs() < 1e-9 {
+                at_floor.push(word('I').unwrap().hypot(word('J').unwrap()));
+            }
+        }
+        let wall = diameter / 2.0;
+        assert!(at_floor.iter().all(|radius| radius + r <= wall + 1e-9), "{at_floor:?} cut past the wall");
+        assert!(at_floor.iter().any(|radius| (radius + r - wall).abs() < 1e-9), "{at_floor:?}: no pass at the wall");
+        for step in 0..=300 {
+            let rho = wall * f64::from(step) / 300.0;
+            let near = |radius: &f64| (rho - radius).abs() <= r || rho <= r - radius;
+            assert!(at_floor.iter().any(near), "radius {rho} is not cut ({at_floor:?})");
+        }
+        // The simulated part: the circle's box, to the cell, at DEPTH, with no warning.
+        let (status, report) = denied_check(&program, &format!("units = \"mm\"\n{tools}"));
+        assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{tool}");
+        let cut = &report["summary"]["cut_box"];
+        let cell = 0.1;
+        for (axis, centre) in [(0, cx), (1, cy)] {
+            let (lo, hi) = (cut["min"][axis].as_f64().unwrap(), cut["max"][axis].as_f64().unwrap());
+            assert!((lo - (centre - wall)).abs() < cell && (hi - (centre + wall)).abs() < cell, "{tool}: {cut}");
+        }
+        assert!((cut["min"][2].as_f64().unwrap() + depth).abs() < cell, "{tool}: {cut}");
+    }
+    // A pocket hardly wider than the tool leaves no room for a helix: an error at the call.
+    let (_, diagnostics) = run(
+        "wizards",
+        &mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n"),
+        "G21 G90\nM06 T1\nG00 X0 Y0 Z0\nF100\nCirclePocket 6.2 2\nM30\n",
+    );
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("5:1: error") && diagnostics[0].contains("no room to helix down"),
+        "{diagnostics:?}"
+    );
+}
+
 #[test]
 fn the_example_pocket_passes_the_check_with_warnings_denied() {
     // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
