@@ -210,6 +210,61 @@ fn circle_pocket_helixes_down_and_cuts_its_circle_to_the_wall() {
 }
 
 #[test]
+fn drill_grid_drills_every_hole_in_pecks_and_never_rapids_into_the_material() {
+    let tools = "[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 3\nflute_length = 20\n";
+    // 3 columns 10 apart towards +X, 2 rows 8 apart towards -Y, 5 deep in pecks of at most 2.
+    let program = "G21 G90\nM06 T1\nM03 S3000\nG00 X20 Y30 Z1\nF120\nDrillGrid 3 2 10 -8 6 2\nG00 Z5\nM05\nM30\n";
+    let calls = [
+        ("DrillGrid 3 2 10 -8 6 2", 3, 2.0),
+        ("DrillGrid 3 2 10 -8 6 2 0.3", 3, 2.0),
+        ("DrillGrid 3 2 10 -8 6", 1, 5.0),
+    ];
+    for (call, pecks, most) in calls {
+        let program = program.replace("DrillGrid 3 2 10 -8 6 2", call);
+        let (lines, diagnostics) = run("wizards", &mm(tools), &program);
+        assert!(diagnostics.is_empty(), "{diagnostics:?}");
+        let moves = moves(&lines);
+        // Each hole's bottom, in the order drilled: rows back and forth from the first hole.
+        let bottoms: Vec<[f64; 2]> =
+            moves.iter().filter(|m| m.0 == 1 && (m.2[2] + 5.0).abs() < 1e-9).map(|m| [m.2[0], m.2[1]]).collect();
+        assert_eq!(
+            bottoms,
+            [[20.0, 30.0], [30.0, 30.0], [40.0, 30.0], [40.0, 22.0], [30.0, 22.0], [20.0, 22.0]],
+            "{call}"
+        );
+        // Straight down, every hole in `pecks` feeds.
+        let feeds: Vec<_> = moves.iter().filter(|m| m.0 == 1).collect();
+        assert_eq!(feeds.len(), 6 * pecks, "{call}: {feeds:?}");
+        assert!(feeds.iter().all(|m| m.1[0] == m.2[0] && m.1[1] == m.2[1]), "{call}");
+        // A rapid goes down only into a hole already cut deeper; a feed takes at most a peck of new material.
+        let mut deepest = std::collections::HashMap::new();
+        for (mode, a, b) in &moves {
+            let key = ((b[0] * 1000.0).round() as i64, (b[1] * 1000.0).round() as i64);
+            let reached = deepest.entry(key).or_insert(0.0f64);
+            if *mode == 0 && b[2] < a[2] {
+                assert!(b[2] > *reached, "{call}: a rapid to Z{} into material at {key:?} (cut to Z{reached})", b[2]);
+            }
+            if *mode == 1 {
+                assert!(*reached - b[2] <= most + 1e-9, "{call}: a feed to Z{} from Z{reached}", b[2]);
+            }
+            *reached = reached.min(b[2]);
+        }
+        let (status, report) = denied_check(&program, &format!("units = \"mm\"\n{tools}"));
+        assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
+        let cut = &report["summary"]["cut_box"];
+        let near = |value: &serde_json::Value, expected: f64| (value.as_f64().unwrap() - expected).abs() < 0.1;
+        assert!(near(&cut["min"][0], 18.5) && near(&cut["max"][0], 41.5), "{call}: {cut}");
+        assert!(near(&cut["min"][1], 20.5) && near(&cut["max"][1], 31.5), "{call}: {cut}");
+    }
+    // BREAK without PECK, and a break as long as the peck, are errors at the call.
+    for (call, words) in [("Drill 5 0 0.2", "must be"), ("Drill 5 1 1", "less than the peck")] {
+        let (_, diagnostics) =
+            run("wizards", &mm(tools), &format!("G21 G90\nM06 T1\nG00 X0 Y0 Z1\nF100\n{call}\nM30\n"));
+        assert!(diagnostics.len() == 1 && diagnostics[0].contains(words), "{call}: {diagnostics:?}");
+    }
+}
+
+#[test]
 fn the_example_pocket_passes_the_check_with_warnings_denied() {
     // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))

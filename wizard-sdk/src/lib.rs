@@ -6,7 +6,7 @@
 //! sees plain Rust types ([`State`], [`Arg`], [`Statement`]) and builds its
 //! output with [`g0`], [`g1`], [`g2`], [`g3`], [`g`], [`m`], [`comment`] and
 //! [`call`]; [`entry`] takes a cutter down into material by a ramp or a
-//! helix instead of a plunge.
+//! helix instead of a plunge, and [`holes`] drills as G81, G83 or G73 would.
 //!
 //! ```no_run
 //! use ger_wizard_sdk::*;
@@ -37,6 +37,7 @@
 mod args;
 mod block;
 pub mod entry;
+pub mod holes;
 mod state;
 
 pub use args::{Arg, Args};
