@@ -467,6 +467,42 @@ fn the_examples_in_other_languages_build_from_the_default_folder() {
 }
 
 #[test]
+fn a_new_wizard_in_python_or_javascript_builds_and_runs_as_the_rust_one_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let wizards = dir.path().to_str().unwrap();
+    // The toolchains (componentize-py, jco) the shipped wizards' builds installed, not a second copy.
+    std::os::unix::fs::symlink(repo("wizards/target"), dir.path().join("target")).unwrap();
+    let target = repo("tests/wizards/guests/target/cargo");
+    for (name, lang, file, language) in
+        [("Square", "python", "app.py", "Python"), ("Cube", "js", "wizard.js", "JavaScript")]
+    {
+        let (out, err, status) = ger(&["wizard", "new", name, "--lang", lang, "--wizards", wizards], "", &target);
+        assert_eq!(status, 0, "{out}{err}");
+        let folder = dir.path().join(name.to_ascii_lowercase());
+        assert!(out.contains(&format!("edit {file}")) && folder.join(file).is_file(), "{out}");
+        let program = format!("G21 G90\nG00 X0 Y0 Z0\nF100\n{name} 10 1\nM30\n");
+        let (out, err, status) =
+            ger(&["run", "--units", "mm", "--no-line-numbers", "--wizards", wizards, "-"], &program, &target);
+        assert_eq!(status, 0, "{lang}: {err}");
+        let body: Vec<&str> = out.lines().skip_while(|l| !l.starts_with("G00 X0")).skip(1).collect();
+        assert_eq!(
+            body,
+            ["G01 Z-1.000 F100.000", "G01 X10.000", "G01 Y10.000", "G01 X0.000", "G01 Y0.000", "G00 Z0.000", "M30"],
+            "{lang}"
+        );
+        let (out, err, status) = ger(&["wizard", "list", "--wizards", wizards], "", &target);
+        assert_eq!(status, 0, "{err}");
+        let listed = format!("({}, {language})", name.to_ascii_lowercase());
+        assert!(out.contains(&format!("{name} SIDE DEPTH")) && out.contains(&listed), "{out}");
+        // Its argument errors name the parameter, as the SDK's do.
+        let (_, err, status) =
+            ger(&["run", "--units", "mm", "--wizards", wizards, "-"], &program.replace(" 10 1", " 10 -1"), &target);
+        assert_eq!(status, 1);
+        assert!(err.contains("DEPTH (argument 2) must be greater than 0"), "{lang}: {err}");
+    }
+}
+
+#[test]
 fn watch_translates_again_when_the_program_or_a_wizard_changes() {
     use std::io::BufRead;
     let dir = tempfile::tempdir().unwrap();

@@ -21,10 +21,13 @@ use ger_wasm::catalog::{self, Catalog};
 
 #[derive(Subcommand)]
 pub enum WizardCommand {
-    /// Make a new Rust wizard crate in the wizards directory; it builds and runs as it is.
+    /// Make a new wizard in the wizards directory; it builds and runs as it is.
     New {
         /// The wizard's name, as programs will call it (letters only), e.g. Slot.
         name: String,
+        /// The language it is written in.
+        #[arg(long, value_enum, default_value_t = Lang::Rust)]
+        lang: Lang,
         #[command(flatten)]
         dir: DirArg,
     },
@@ -45,6 +48,17 @@ pub enum WizardCommand {
     },
 }
 
+/// The languages `ger wizard new` writes a wizard in.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum Lang {
+    /// A crate on the wizard SDK (`Cargo.toml`, `src/lib.rs`).
+    Rust,
+    /// `app.py`, built with componentize-py.
+    Python,
+    /// `wizard.js`, built with jco.
+    Js,
+}
+
 #[derive(Args)]
 pub struct DirArg {
     /// The wizards directory.
@@ -54,7 +68,7 @@ pub struct DirArg {
 
 pub fn main(command: WizardCommand) -> Result<i32> {
     match command {
-        WizardCommand::New { name, dir } => new(&name, &dir.dir),
+        WizardCommand::New { name, lang, dir } => new(&name, lang, &dir.dir),
         WizardCommand::Build { names, dir } => build_named(&names, &dir.dir),
         WizardCommand::List { dir, no_build } => list(&dir.dir, no_build),
     }
@@ -174,7 +188,7 @@ fn list(dir: &Path, no_build: bool) -> Result<i32> {
     Ok(i32::from(failed > 0))
 }
 
-fn new(name: &str, dir: &Path) -> Result<i32> {
+fn new(name: &str, lang: Lang, dir: &Path) -> Result<i32> {
     if name.len() < 2 || !name.chars().all(|c| c.is_ascii_alphabetic()) {
         let help = "a program calls a wizard by a word of two or more letters, e.g. `Slot 40 3`";
         return Err(with_help(format!("`{name}` cannot be a wizard's name"), help));
@@ -183,23 +197,36 @@ fn new(name: &str, dir: &Path) -> Result<i32> {
     if folder.exists() {
         bail!("{} already exists", folder.display());
     }
-    let sdk = Path::new(env!("CARGO_MANIFEST_DIR")).join("../wizard-sdk");
-    let sdk = sdk.canonicalize().map_err(|err| {
-        let help = "`ger wizard new` uses the wizard-sdk folder of the ger source tree it was built from";
-        with_help(format!("cannot find the wizard SDK at {}: {err}", sdk.display()), help)
-    })?;
     let write = |path: &Path, text: &str| {
         std::fs::create_dir_all(path.parent().expect("a file in a folder"))
             .and_then(|()| OutputFile::create(path))
             .and_then(|mut output| output.write_all(text.as_bytes()).and_then(|()| output.commit()))
             .with_context(|| cannot_write(path))
     };
-    std::fs::create_dir_all(&folder).with_context(|| format!("cannot create {}", folder.display()))?;
-    let absolute = folder.canonicalize().unwrap_or_else(|_| folder.clone());
-    let sdk_path = relative(&absolute, &sdk);
-    write(&folder.join("Cargo.toml"), &manifest(&name.to_ascii_lowercase(), &sdk_path))?;
-    write(&folder.join("src/lib.rs"), &template(name))?;
-    println!("created {}: edit src/lib.rs, then call it as `{name} 20 1` in a program", folder.display());
+    let edit = match lang {
+        Lang::Rust => {
+            let sdk = Path::new(env!("CARGO_MANIFEST_DIR")).join("../wizard-sdk");
+            let sdk = sdk.canonicalize().map_err(|err| {
+                let help = "`ger wizard new` uses the wizard-sdk folder of the ger source tree it was built from";
+                with_help(format!("cannot find the wizard SDK at {}: {err}", sdk.display()), help)
+            })?;
+            std::fs::create_dir_all(&folder).with_context(|| format!("cannot create {}", folder.display()))?;
+            let absolute = folder.canonicalize().unwrap_or_else(|_| folder.clone());
+            let sdk_path = relative(&absolute, &sdk);
+            write(&folder.join("Cargo.toml"), &manifest(&name.to_ascii_lowercase(), &sdk_path))?;
+            write(&folder.join("src/lib.rs"), &template(name))?;
+            "src/lib.rs"
+        }
+        Lang::Python => {
+            write(&folder.join("app.py"), &include_str!("templates/app.py").replace("Square", name))?;
+            "app.py"
+        }
+        Lang::Js => {
+            write(&folder.join("wizard.js"), &include_str!("templates/wizard.js").replace("Square", name))?;
+            "wizard.js"
+        }
+    };
+    println!("created {}: edit {edit}, then call it as `{name} 20 1` in a program", folder.display());
     println!("ger run builds it when its sources change; `ger wizard build {name}` builds it now");
     Ok(0)
 }
