@@ -194,9 +194,10 @@ impl Emitter {
                 self.value(out, 'F', spline.feed);
             }
             Kind::NurbsEnd => out.push_str("G5.3"),
-            Kind::SetWorkOffset { entry, axes, relative } => {
+            Kind::SetWorkOffset { entry, axes, relative, rotation } => {
                 let _ = write!(out, "G10 L{} P{entry}", if *relative { 20 } else { 2 });
                 self.axes(out, "XYZ", axes);
+                self.value(out, 'R', *rotation);
             }
             Kind::Wizard { name, args } => {
                 out.push_str(name);

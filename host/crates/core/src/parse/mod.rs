@@ -617,12 +617,13 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                         .with_help("P1 is G54, P2 G55, ... P6 G59, P7 to P9 G59.1 to G59.3"))
                 }
             };
-            // LinuxCNC's R turns the coordinate system about Z, which ger does not model.
-            if let Some(r) = words.get('R').filter(|r| r.value != 0.0) {
-                return Err(Diagnostic::error(r.span, "a rotated coordinate system (G10 R) is not supported")
-                    .with_help("rotate the program in the CAM system, or leave out R"));
+            // R turns the coordinate system about its origin; LinuxCNC takes it with L2 only.
+            let rotation = words.get('R');
+            if let (Some(r), true) = (rotation, relative) {
+                return Err(Diagnostic::error(r.span, "R is not allowed with G10 L20")
+                    .with_help("turn the coordinate system with G10 L2 Pn R.., then set its origin with L20"));
             }
-            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative }
+            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative, rotation }
         }
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
             Kind::Cycle(Box::new(cycle(number, span, words)?))
