@@ -249,6 +249,13 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             Kind::Program(number) => {
                 self.defining = Some((number, statement.span, Vec::new()));
                 if !self.defined.insert(number) {
+                    // LinuxCNC runs the first and reads past the second.
+                    if self.runtime.config.dialect.name == Dialect::Lenient {
+                        let message = format!("O{number} is defined again: calls run its first definition");
+                        let diagnostic = Diagnostic::warning(statement.span, message)
+                            .with_help("give each subprogram its own number, or remove the one that never runs");
+                        return Some(error(&statement, diagnostic));
+                    }
                     let diagnostic = Diagnostic::error(statement.span, format!("O{number} is defined twice"))
                         .with_help("give each subprogram its own number; calls run the first definition");
                     return Some(error(&statement, diagnostic));
@@ -578,7 +585,9 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
 
 #[cfg(test)]
 mod tests {
+    use crate::config::Config;
     use crate::passes::testing::{run, run_with};
+    use crate::statement::Dialect;
 
     #[test]
     fn calls_are_replaced_by_the_body_l_times() {
@@ -640,6 +649,14 @@ mod tests {
     fn a_second_definition_is_an_error() {
         let got = run("M98 P1\nM30\nO1\nX1\nM99\nO1\nX2\nM99", 0);
         assert_eq!(got, ["G00 X1.0000", "M30", "6:1: error: O1 is defined twice"]);
+    }
+
+    #[test]
+    fn a_second_definition_is_read_past_in_the_lenient_dialect() {
+        // rs274 runs the first of two O2s (LinuxCNC's test m98m99/10-M98-P001), O0002 being O2.
+        let config = Config { dialect: Dialect::Lenient.into(), ..Config::default() };
+        let got = run_with("M98 P2\nM30\nO0002\nX1\nM99\nO2\nX2\nM99", &config, 0);
+        assert_eq!(got, ["G00 X1.0000", "M30", "6:1: warning: O2 is defined again: calls run its first definition"]);
     }
 
     #[test]
