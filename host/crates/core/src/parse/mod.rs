@@ -334,7 +334,9 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 100) => Some("LPXYZR"),
         ('G', 280 | 300) => Some("XYZ"),
         ('G', 530) => Some("XYZF"),
-        ('G', 640) => Some("PQ"),
+        // G64 R is the planner's peak scale in LinuxCNC since its 2023 planner
+        // (its test g64-r-planner); Debian's 2.9 pre-release refuses it.
+        ('G', 640) => Some("PQR"),
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => Some("XYZRQPLKF"),
         // The splines take every word a move might, so that a wrong one is
         // refused by name rather than made a move of its own.
@@ -1052,8 +1054,10 @@ mod tests {
             parsed_lenient("G64 M19 R90 Q2 P1 S0"),
             ["1:19 SpindleSpeed(0.0)", "1:5 NoEffect(\"M19\")", "1:1 NoEffect(\"G64\")"]
         );
-        // G64 takes P and Q but no R, so R on a G64 line with no M19 is a move's word.
-        assert!(parsed_lenient("G64 P0.01 R1")[1].starts_with("1:11 Motion(Motion { mode: None"));
+        // G64 takes R too: LinuxCNC's test g64-r-planner expects `G64 P1 R0.5` to move nothing.
+        assert_eq!(parsed_lenient("G64 P0.01 R1"), ["1:1 NoEffect(\"G64\")"]);
+        // G61 takes no R: LinuxCNC's reject g64-r-on-g61.
+        assert!(parsed_lenient("G61 R0.5")[1].starts_with("1:5 Motion(Motion { mode: None"));
     }
 
     #[test]
