@@ -334,8 +334,8 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 100) => Some("LPXYZR"),
         ('G', 280 | 300) => Some("XYZ"),
         ('G', 530) => Some("XYZF"),
-        // G64 R is the planner's peak scale in LinuxCNC since its 2023 planner
-        // (its test g64-r-planner); Debian's 2.9 pre-release refuses it.
+        // G64 R is the planner's peak scale in newer LinuxCNC (its test
+        // g64-r-planner expects it); the Debian 2.9 pre-release refuses it.
         ('G', 640) => Some("PQR"),
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => Some("XYZRQPLKF"),
         // The splines take every word a move might, so that a wrong one is
@@ -604,14 +604,24 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 300) => Kind::Home { reference: Reference::Second, via: words.axes("XYZ") },
         ('G', 530) => Kind::MachineMove(Box::new(motion(None, words, Dialect::Lenient)?)),
         ('G', 100) => {
-            let relative =
-                match words.whole('L')? {
-                    Some(2) => false,
-                    Some(20) => true,
-                    _ => return Err(Diagnostic::error(span, "G10 sets work offsets with L2 or L20 only").with_help(
+            let relative = match words.whole('L')? {
+                Some(2) => false,
+                Some(20) => true,
+                // LinuxCNC's L1, L10, L11 and Fanuc's L10-L13 write the tool table.
+                Some(l @ (1 | 10..=13)) => {
+                    let tool = words.whole('P')?.map_or("a tool".to_string(), |p| format!("tool {p}"));
+                    let message = format!(
+                            "G10 L{l} writes {tool}'s offsets into the controller's tool table, which ger's output leaves to the controller (G43 H passes through), so ger cannot say where its later moves go"
+                        );
+                    return Err(Diagnostic::error(span, message)
+                        .with_help("set the tool's length and radius on the controller, not in the program"));
+                }
+                _ => {
+                    return Err(Diagnostic::error(span, "G10 sets work offsets with L2 or L20 only").with_help(
                         "G10 L2 P1 X.. Y.. Z.. sets G54's origin; G10 L20 P1 X.. makes the current position read X..",
-                    )),
-                };
+                    ))
+                }
+            };
             let entry = match words.whole('P')? {
                 Some(p) if p <= 9 => p as u8,
                 _ => {
@@ -1058,6 +1068,15 @@ mod tests {
         assert_eq!(parsed_lenient("G64 P0.01 R1"), ["1:1 NoEffect(\"G64\")"]);
         // G61 takes no R: LinuxCNC's reject g64-r-on-g61.
         assert!(parsed_lenient("G61 R0.5")[1].starts_with("1:5 Motion(Motion { mode: None"));
+    }
+
+    #[test]
+    fn g10_that_writes_the_tool_table_is_refused_with_its_reason() {
+        for (program, tool) in [("G10 L1 P1 Z3", "tool 1"), ("G10 L10 P2 Z0", "tool 2"), ("G10 L11 Z0", "a tool")] {
+            let got = &parsed_lenient(program)[0];
+            assert!(got.contains(&format!("writes {tool}'s offsets into the controller's tool table")), "{got}");
+        }
+        assert!(parsed_lenient("G10 L3 P1")[0].ends_with("G10 sets work offsets with L2 or L20 only"));
     }
 
     #[test]
