@@ -15,6 +15,9 @@ use crate::statement::{Cycle, CycleCode, Distance, Kind, Machine, MotionMode, Re
 #[derive(Default)]
 pub struct CycleState {
     pub retract: Retract,
+    /// Z and R as the program wrote them (absolute ones less program zero):
+    /// LinuxCNC carries the number over, read in the distance mode of the
+    /// cycle that uses it.
     z: Option<f64>,
     r: Option<f64>,
     q: Option<f64>,
@@ -50,19 +53,24 @@ impl Absolute {
     /// where not given) and levels. The holes are made by [`Absolute::next_hole`].
     pub(super) fn cycle(&mut self, cycle: &Cycle, statement: &Statement) -> Result<(), Diagnostic> {
         let code = cycle.code.code();
-        let sticky = &mut self.cycles;
-        let given = |v: Option<crate::statement::Value>, keep: &mut Option<f64>| {
-            if let Some(v) = v {
-                *keep = Some(v.value);
-            }
-            *keep
-        };
         // The hole runs along the plane's normal: Z in G17, Y in G18, X in G19.
         let n = self.plane.axes().2;
-        let z = given(cycle.target.get(n), &mut sticky.z);
-        let r = given(cycle.r, &mut sticky.r);
-        let q = given(cycle.q, &mut sticky.q);
-        let p = given(cycle.p, &mut sticky.p);
+        // Pass 02 has put absolute levels in machine coordinates.
+        let zero = match self.distance {
+            Distance::Absolute => self.probe.borrow().prz[n],
+            Distance::Incremental => 0.0,
+        };
+        let sticky = &mut self.cycles;
+        let given = |v: Option<crate::statement::Value>, keep: &mut Option<f64>, zero: f64| {
+            if let Some(v) = v {
+                *keep = Some(v.value - zero);
+            }
+            keep.map(|number| number + zero)
+        };
+        let z = given(cycle.target.get(n), &mut sticky.z, zero);
+        let r = given(cycle.r, &mut sticky.r, zero);
+        let q = given(cycle.q, &mut sticky.q, 0.0);
+        let p = given(cycle.p, &mut sticky.p, 0.0);
         if let Some(f) = cycle.feed {
             self.feed = Some(f.value);
         }
@@ -227,5 +235,35 @@ impl Absolute {
 
     fn spindle(&mut self, code: Machine, s: Option<f64>, statement: &Statement, out: &mut Out) {
         self.rewrite(statement.with_kind(Kind::Machine { code, s, t: None }), out);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::{Config, WorkOffsets};
+    use crate::passes::testing::run_with;
+    use crate::statement::{Dialect, Units};
+
+    #[test]
+    fn carried_over_levels_are_the_numbers_written_read_in_the_new_distance_mode() {
+        // G55's Z is -10. The first hole's R2 and Z-3 carry over to a G91
+        // cycle as +2 and -3 from where it starts (program Z15): rs274 goes
+        // to program Z17 and cuts to Z14, machine Z7 and Z4.
+        let offsets = WorkOffsets { g55: Some([100.0, 50.0, -10.0]), ..Default::default() };
+        let config = Config { offsets, units: Units::Mm, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program = "G55\nG00 X1 Y1 Z15\nG98 G81 X5 Y5 Z-3 R2 F100\nG91 G81 X1 Y1 L2\nG90 G80";
+        let got = run_with(program, &config, 4);
+        assert_eq!(
+            got[got.len() - 7..],
+            [
+                "G00 Z7.000",
+                "G00 X106.000 Y56.000",
+                "G01 Z4.000",
+                "G00 Z7.000",
+                "G00 X107.000 Y57.000",
+                "G01 Z4.000",
+                "G00 Z7.000"
+            ]
+        );
     }
 }
