@@ -537,6 +537,15 @@ pub enum Kind {
     Spline(Box<Spline>),
     /// G5.3: the end of a NURBS, which is drawn here.
     NurbsEnd,
+    /// A line of axis words with P, L or Q and no code (lenient dialect),
+    /// read both ways: the next control point of the NURBS in force (G5.2),
+    /// or the next hole of the canned cycle in force (its code to be filled
+    /// in) with a new dwell, repeat count or peck. Pass 00 keeps the reading
+    /// that fits the mode in force, or its error.
+    NextPoint {
+        point: Result<Box<Spline>, crate::diag::Diagnostic>,
+        hole: Result<Box<Cycle>, crate::diag::Diagnostic>,
+    },
     /// G10 L2 (`relative` false): entry `entry` of the work-offsets table (0:
     /// the one in force) is set to the given machine coordinates, and with R
     /// its coordinate system turned by `rotation` degrees about its origin

@@ -381,14 +381,22 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
             Kind::Rotary([words.get('A'), words.get('B'), words.get('C')])
         }
         Head::Bare => {
-            if let Some((letter, value)) = words.list.iter().find(|(l, _)| !KNOWN_LETTERS.contains(*l)) {
+            // The lenient dialect's Q is a canned cycle's peck depth.
+            let known = |l: char| KNOWN_LETTERS.contains(l) || (l == 'Q' && dialect == Dialect::Lenient);
+            if let Some((letter, value)) = words.list.iter().find(|(l, _)| !known(*l)) {
                 return Err(unknown_letter(*letter, value.span));
             }
             match words.list[0] {
-                // A line of X Y P (or L) continues a NURBS (G5.2), if one is in force.
-                _ if dialect == Dialect::Lenient && words.has_any("PL") && words.has_any("XYZ") => {
+                // A line of X Y P (or L) with a centre is nothing but a bad NURBS point.
+                _ if dialect == Dialect::Lenient && words.has_any("PL") && words.has_any("IJK") => {
                     Kind::Spline(Box::new(spline(None, span, &words)?))
                 }
+                // Either the next point of a NURBS (G5.2) or, with new words,
+                // the next hole of a canned cycle: whichever is in force.
+                _ if dialect == Dialect::Lenient && words.has_any("PLQ") && words.has_any("XYZ") => Kind::NextPoint {
+                    point: spline(None, span, &words).map(Box::new),
+                    hole: cycle(810, span, &words).map(Box::new),
+                },
                 _ if words.has_any(ARC_WORDS) => {
                     words.only(ARC_WORDS, "a move")?;
                     Kind::Motion(Box::new(motion(None, &words, dialect)?))
@@ -881,7 +889,7 @@ fn unknown_letter(letter: char, span: Span) -> Diagnostic {
     let why = match letter {
         'A' | 'B' | 'C' => "rotary axes are not part of a 3-axis machine",
         'U' | 'V' | 'W' => "secondary linear axes are not part of a 3-axis machine",
-        'Q' => "Q belongs to canned cycles, which ger does not have",
+        'Q' => "Q belongs to canned cycles, which only the lenient dialect has",
         _ => "it is not a word ger knows",
     };
     Diagnostic::error(span, format!("`{letter}` word is not accepted: {why}"))

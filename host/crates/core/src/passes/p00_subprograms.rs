@@ -306,6 +306,9 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
     /// Runs a statement in execution order: calls push a frame, moves get
     /// their motion mode.
     fn run(&mut self, mut statement: Statement) -> Option<Event> {
+        if let Kind::NextPoint { .. } = statement.kind {
+            return self.next_point(statement);
+        }
         match &mut statement.kind {
             Kind::Call { program, repeat } => {
                 let (program, repeat) = (*program, *repeat);
@@ -479,6 +482,34 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
     }
 }
 
+impl<I: Iterator<Item = Event>> Subprograms<'_, I> {
+    /// A line of axis words with P, L or Q: a NURBS's next point, or the
+    /// next hole of the canned cycle in force, whichever is in force.
+    fn next_point(&mut self, statement: Statement) -> Option<Event> {
+        let Statement { kind: Kind::NextPoint { point, hole }, span, origin } = statement else {
+            unreachable!("run hands only NextPoint here")
+        };
+        let kind = match (self.after_spline, self.cycle, point, hole) {
+            (Some(AfterSpline::Nurbs), _, point, _) => point.map(Kind::Spline),
+            (None, Some(code), _, hole) => hole.map(|mut hole| {
+                hole.code = code;
+                Kind::Cycle(hole)
+            }),
+            // Neither: the spline's reading says what the mode in force does not take.
+            (_, _, Ok(point), _) => Ok(Kind::Spline(point)),
+            _ => {
+                let message = format!("P, L and Q are not used by {}, the motion mode in force", self.mode_name());
+                let help = "with no code, they go with a canned cycle (G81 ...) or a NURBS (G5.2) in force";
+                Err(Diagnostic::error(span, message).with_help(help))
+            }
+        };
+        match kind {
+            Ok(kind) => self.run(Statement { kind, span, origin }),
+            Err(diagnostic) => Some(Event::Diagnostic(diagnostic.with_origin(origin))),
+        }
+    }
+}
+
 impl<I> Subprograms<'_, I> {
     /// The code a line without one moves by, for messages.
     fn mode_name(&self) -> &'static str {
@@ -623,6 +654,26 @@ mod tests {
         assert_eq!(got[3], "7:1: error: I is not used by G00, the motion mode in force", "{got:?}");
         // An arc's own words are its business (pass 04 checks them).
         assert_eq!(run("G02 X2 I1 F5\nX0 I-1\nM30", 0)[1], "G02 X0.0000 I-1.0000");
+    }
+
+    #[test]
+    fn a_line_with_no_code_gives_a_canned_cycle_new_words() {
+        // As rs274 runs `X2 P1` after a G82 (a new dwell), `X1 L2` (two
+        // repeats) and `X6 Q2` after a G83 (a new peck).
+        let config = Config { dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program = "G82 X1 Y1 Z-2 R2 P0.5 F100\nX2 P1\nX1 L2\nG83 X5 Z-4 R2 Q1\nX6 Q2";
+        let got = run_with(program, &config, 0);
+        assert_eq!(
+            got[1..],
+            ["G82 X2.0000 P1.0000", "G82 X1.0000 L2", "G83 X5.0000 Z-4.0000 R2.0000 Q1.0000", "G83 X6.0000 Q2.0000"]
+        );
+        // With no cycle or NURBS in force they are an error.
+        let got = run_with("G01 X1 F10\nX2 P1\nX2 Y1 P1", &config, 0);
+        assert_eq!(got[1], "2:1: error: P, L and Q are not used by G01, the motion mode in force");
+        assert_eq!(got[2], "3:7: error: P is not used by G01, the motion mode in force");
+        // After G5.2 the same words are the next control point.
+        let got = run_with("G01 F100\nG5.2 X0 Y1 P1 L3\nX2 Y1 P1\nX3 Y0 P1\nG5.3", &config, 0);
+        assert_eq!(got[2..4], ["G5.2 X2.0000 Y1.0000 P1.0000", "G5.2 X3.0000 Y0.0000 P1.0000"]);
     }
 
     #[test]
