@@ -471,10 +471,10 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 self.cycle = None;
                 Some(Event::Statement(statement))
             }
-            // G80 ends the series; the others change nothing a later pass needs.
+            // G80 ends the series, here and in pass 04, which drops it.
             Kind::CycleCancel => {
                 self.cycle = None;
-                None
+                Some(Event::Statement(statement))
             }
             Kind::NoEffect(_) => None,
             _ => Some(Event::Statement(statement)),

@@ -1,7 +1,9 @@
 //! Canned cycles (lenient dialect), expanded to rapids, feeds and dwells with
 //! LinuxCNC's meaning: at each position the tool rapids over the hole (first
 //! up to the R plane if it is below it), down to R, cuts to Z in the cycle's
-//! way, and retracts to where it started (G98, but never below R) or to R (G99).
+//! way, and retracts to the level where the series of cycles began (G98, but
+//! never below R; LinuxCNC's initial level, kept from one cycle code to the
+//! next until G80 or another move) or to R (G99).
 //! In G91, R is measured from the Z where the cycle starts and Z from R, and
 //! each of the L repeats steps X/Y again. Z, R, Q and P carry over from one
 //! cycle to the next, so `X10` after a `G81` drills another hole alike.
@@ -22,6 +24,8 @@ pub struct CycleState {
     r: Option<f64>,
     q: Option<f64>,
     p: Option<f64>,
+    /// Where along the hole's axis the series of cycles began: G98 retracts there.
+    pub initial: Option<f64>,
     /// The holes of the cycle block being expanded, made one at a time.
     pending: Option<Holes>,
 }
@@ -31,8 +35,8 @@ pub struct CycleState {
 struct Holes {
     statement: Statement,
     left: u32,
-    /// Where along the hole's axis the block began: G98 retracts there.
-    start: f64,
+    /// The series' initial level.
+    initial: f64,
     r_plane: f64,
     bottom: f64,
     q: Option<f64>,
@@ -120,9 +124,10 @@ impl Absolute {
             );
         }
         // L0 (Fanuc's K0) keeps the cycle's words and drills nothing.
+        let initial = *self.cycles.initial.get_or_insert(start);
         if cycle.repeat > 0 {
             let statement = statement.clone();
-            self.cycles.pending = Some(Holes { statement, left: cycle.repeat, start, r_plane, bottom, q, p });
+            self.cycles.pending = Some(Holes { statement, left: cycle.repeat, initial, r_plane, bottom, q, p });
         }
         Ok(())
     }
@@ -142,7 +147,7 @@ impl Absolute {
             }
         }
         let clear = match self.cycles.retract {
-            Retract::Initial => holes.start.max(r_plane),
+            Retract::Initial => holes.initial.max(r_plane),
             Retract::RPlane => r_plane,
         };
         let at = |depth: f64| {
@@ -243,6 +248,26 @@ mod tests {
     use crate::config::{Config, WorkOffsets};
     use crate::passes::testing::run_with;
     use crate::statement::{Dialect, Units};
+
+    #[test]
+    fn g98_retracts_to_where_the_series_began_until_g80() {
+        // As rs274 runs it: the G99 series ends at R2, and the G98 series
+        // after G80 begins there, so the G82 with R5 retracts to R5 and the
+        // next hole, with R1, to Z2, where the series began (not to Z5,
+        // where its block began).
+        let config = Config { units: Units::Mm, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program = "G00 Z10\nG99 G81 X1 Z-2 R2 F100\nG80\nG98 G81 X2 Z-2 R1\nG82 X3 Z-2 R5 P1\nX4 R1";
+        let got = run_with(program, &config, 4);
+        let retracts: Vec<&str> = got
+            .iter()
+            .zip(got.iter().skip(1))
+            .filter(|(_, next)| next.starts_with("G00 X"))
+            .map(|(r, _)| r.as_str())
+            .collect();
+        // Before each hole: the start, the G99 retract, the climb to R5, its retract.
+        assert_eq!(retracts, ["G00 Z10.000", "G00 Z2.000", "G00 Z5.000", "G00 Z5.000"]);
+        assert_eq!(got.last().unwrap(), "G00 Z2.000");
+    }
 
     #[test]
     fn carried_over_levels_are_the_numbers_written_read_in_the_new_distance_mode() {
