@@ -106,3 +106,23 @@ impl Snapshot {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_wizard_is_told_its_position_along_the_turned_axes() {
+        let probe = probe(Units::Inch);
+        {
+            let mut snapshot = probe.borrow_mut();
+            snapshot.prz = [10.0, 0.0, 0.0];
+            snapshot.rotation = 90.0;
+            snapshot.position = [10.0, 1.0, 2.0];
+        }
+        let state = probe.borrow().call_state(&Config::default(), 1);
+        // One along machine Y from program zero is one along X turned 90°.
+        let [x, y, z] = state.position;
+        assert!((x - 1.0).abs() < 1e-12 && y.abs() < 1e-12 && z == 2.0, "{:?}", state.position);
+    }
+}
