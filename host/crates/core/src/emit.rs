@@ -5,7 +5,7 @@
 use std::fmt::Write;
 
 use crate::statement::{
-    Axes, Distance, FeedMode, Kind, Offset, Reference, Retract, Side, Statement, Units, Value, WizardArg,
+    Axes, Cycle, Distance, FeedMode, Kind, Offset, Reference, Retract, Side, Statement, Units, Value, WizardArg,
 };
 
 pub struct Emitter {
@@ -158,15 +158,13 @@ impl Emitter {
             Kind::CycleRetract(retract) => out.push_str(if *retract == Retract::Initial { "G98" } else { "G99" }),
             Kind::Cycle(cycle) => {
                 out.push_str(cycle.code.code());
-                self.axes(out, "XYZ", &cycle.target);
-                self.value(out, 'R', cycle.r);
-                self.value(out, 'Q', cycle.q);
-                self.value(out, 'P', cycle.p);
-                if cycle.repeat != 1 {
-                    let _ = write!(out, " L{}", cycle.repeat);
-                }
-                self.value(out, 'F', cycle.feed);
+                self.cycle_words(out, cycle);
             }
+            // Pass 00 reads it one way or the other, so no stage shows it; a
+            // line written without a code, its words are a hole's.
+            Kind::NextPoint { hole: Ok(hole), .. } => self.cycle_words(out, hole),
+            // Read neither way, it has been reported and has no words to write.
+            Kind::NextPoint { hole: Err(_), .. } => {}
             Kind::Home { reference, via } => {
                 out.push_str(if *reference == Reference::Home { "G28" } else { "G30" });
                 self.axes(out, "XYZ", via);
@@ -194,9 +192,10 @@ impl Emitter {
                 self.value(out, 'F', spline.feed);
             }
             Kind::NurbsEnd => out.push_str("G5.3"),
-            Kind::SetWorkOffset { entry, axes, relative } => {
+            Kind::SetWorkOffset { entry, axes, relative, rotation } => {
                 let _ = write!(out, "G10 L{} P{entry}", if *relative { 20 } else { 2 });
                 self.axes(out, "XYZ", axes);
+                self.value(out, 'R', *rotation);
             }
             Kind::Wizard { name, args } => {
                 out.push_str(name);
@@ -218,6 +217,17 @@ impl Emitter {
         for (axis, letter) in letters.chars().enumerate() {
             self.value(out, letter, axes.get(axis));
         }
+    }
+
+    fn cycle_words(&self, out: &mut String, cycle: &Cycle) {
+        self.axes(out, "XYZ", &cycle.target);
+        self.value(out, 'R', cycle.r);
+        self.value(out, 'Q', cycle.q);
+        self.value(out, 'P', cycle.p);
+        if cycle.repeat != 1 {
+            let _ = write!(out, " L{}", cycle.repeat);
+        }
+        self.value(out, 'F', cycle.feed);
     }
 
     fn value(&self, out: &mut String, letter: char, value: Option<Value>) {

@@ -65,6 +65,9 @@ pub struct Lexer<R> {
     open_comment: Option<OpenComment>,
     done: bool,
     lenient: bool,
+    /// Whether a token other than a comment has been read: until then an
+    /// `O<name>` line names the program (lenient dialect).
+    read_code: bool,
 }
 
 /// The longest line read: 1 MiB, far beyond any real program's.
@@ -148,6 +151,7 @@ impl<R: BufRead> Lexer<R> {
             open_comment: None,
             done: false,
             lenient: dialect == Dialect::Lenient,
+            read_code: false,
         }
     }
 
@@ -172,6 +176,7 @@ impl<R: BufRead> Lexer<R> {
     }
 
     fn push_token(&mut self, kind: TokenKind, col: usize, len: usize) {
+        self.read_code |= !matches!(kind, TokenKind::Comment(_) | TokenKind::End);
         let span = Span::new(self.line_no, col as u32 + 1, len as u32);
         self.pending.push_back(Lexed::Token(Token { kind, span }));
     }
@@ -279,7 +284,9 @@ impl<R: BufRead> Lexer<R> {
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
-                    if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
+                    if let Some(end) = self.program_name(text, pos) {
+                        pos = end;
+                    } else if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
                     } else if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
@@ -420,6 +427,17 @@ impl<R: BufRead> Lexer<R> {
         } else {
             self.push_token(TokenKind::Word { letter, value }, start, len);
         }
+    }
+
+    /// `O<name>` alone on a line, before any code: the program's name, as
+    /// `O1234` is, which LinuxCNC reads past (lenient dialect). Returns where
+    /// the name ends; anywhere else `O<` is O-word control flow, refused.
+    fn program_name(&self, text: &str, start: usize) -> Option<usize> {
+        let rest = text[start..].strip_prefix(['O', 'o'])?.strip_prefix('<')?;
+        let name = rest.find('>')?;
+        let after = rest[name + 1..].trim_start();
+        let alone = after.is_empty() || after.starts_with(['(', ';']);
+        (self.lenient && !self.read_code && alone && name > 0).then(|| start + 2 + name + 1)
     }
 
     fn too_large(&mut self, start: usize, len: usize) {
@@ -678,6 +696,34 @@ mod tests {
         );
         assert_eq!(tokens("o100 sub")[1], "1:6: error: program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported");
         assert_eq!(tokens("/G01 X1")[0], "1:1+1 /");
+    }
+
+    #[test]
+    fn a_named_program_before_any_code_is_its_name() {
+        // LinuxCNC's test m98m99/13-named-program: rs274 runs it as if the line were not there.
+        let lenient = |text: &str| -> Vec<String> {
+            Lexer::in_dialect(text.as_bytes(), Dialect::Lenient)
+                .map(|item| match item {
+                    Lexed::Token(t) => format!("{}:{} {:?}", t.span.line, t.span.col, t.kind),
+                    Lexed::Diagnostic(d) => d.to_string(),
+                })
+                .collect()
+        };
+        assert_eq!(
+            lenient("(named)\nO<MyProgram> (body)\nM30"),
+            [
+                "1:1 Comment(\"named\")",
+                "1:8 End",
+                "2:14 Comment(\"body\")",
+                "2:20 End",
+                "3:1 Word { letter: 'M', value: 30.0 }",
+                "3:4 End"
+            ]
+        );
+        // After code, or with more on its line, it is control flow, still refused.
+        assert!(lenient("G0 X1\nO<MyProgram>")[3].starts_with("2:1: error: `O` must be followed by a number"));
+        assert!(lenient("O<sub1> sub")[0].starts_with("1:1: error: `O` must be followed by a number"));
+        assert!(tokens("O<MyProgram>")[0].starts_with("1:1: error: `O` must be followed by a number"));
     }
 
     #[test]

@@ -26,6 +26,9 @@ pub struct Snapshot {
     pub program_units: Units,
     /// Program zero in machine coordinates; written by pass 02.
     pub prz: [f64; 3],
+    /// How far the coordinate system is turned about program zero (G10 L2
+    /// R), degrees counter-clockwise in XY; written by pass 02.
+    pub rotation: f64,
     /// Written by pass 04, as are the rest.
     pub position: [f64; 3],
     pub distance: Distance,
@@ -42,6 +45,7 @@ pub fn probe(machine_units: Units) -> Probe {
     Rc::new(RefCell::new(Snapshot {
         program_units: machine_units,
         prz: [0.0; 3],
+        rotation: 0.0,
         position: [0.0; 3],
         distance: Distance::Absolute,
         plane: Plane::XY,
@@ -85,9 +89,13 @@ impl Snapshot {
             kind: t.kind,
             diameter: t.diameter * to_program,
         });
+        let from_zero: [f64; 3] = std::array::from_fn(|axis| self.position[axis] - self.prz[axis]);
+        // Along the coordinate system's own axes, turned back by its rotation.
+        let (sin, cos) = self.rotation.to_radians().sin_cos();
+        let program = [from_zero[0] * cos + from_zero[1] * sin, from_zero[1] * cos - from_zero[0] * sin, from_zero[2]];
         CallState {
             units: self.program_units,
-            position: std::array::from_fn(|axis| (self.position[axis] - self.prz[axis]) * to_program),
+            position: program.map(|v| v * to_program),
             distance: self.distance,
             plane: self.plane,
             feed: self.feed.map(|f| f * to_program),
@@ -96,5 +104,25 @@ impl Snapshot {
             tool_number: self.tool,
             line,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_wizard_is_told_its_position_along_the_turned_axes() {
+        let probe = probe(Units::Inch);
+        {
+            let mut snapshot = probe.borrow_mut();
+            snapshot.prz = [10.0, 0.0, 0.0];
+            snapshot.rotation = 90.0;
+            snapshot.position = [10.0, 1.0, 2.0];
+        }
+        let state = probe.borrow().call_state(&Config::default(), 1);
+        // One along machine Y from program zero is one along X turned 90°.
+        let [x, y, z] = state.position;
+        assert!((x - 1.0).abs() < 1e-12 && y.abs() < 1e-12 && z == 2.0, "{:?}", state.position);
     }
 }

@@ -29,7 +29,8 @@ impl Statement {
         let motion = |m: &Motion| axes(&m.target) && axes(&m.centre) && value(&m.radius) && value(&m.feed);
         match &self.kind {
             Kind::Motion(m) | Kind::MachineMove(m) => motion(m),
-            Kind::Offset { axes: a, .. } | Kind::SetWorkOffset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
+            Kind::Offset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
+            Kind::SetWorkOffset { axes: a, rotation, .. } => axes(a) && value(rotation),
             Kind::Cycle(c) => axes(&c.target) && value(&c.r) && value(&c.q) && value(&c.p) && value(&c.feed),
             Kind::Machine { s, .. } => s.is_none_or(f64::is_finite),
             Kind::Dwell(v) | Kind::SpindleSpeed(v) => v.is_finite(),
@@ -536,12 +537,24 @@ pub enum Kind {
     Spline(Box<Spline>),
     /// G5.3: the end of a NURBS, which is drawn here.
     NurbsEnd,
+    /// A line of axis words with P, L or Q and no code (lenient dialect),
+    /// read both ways: the next control point of the NURBS in force (G5.2),
+    /// or the next hole of the canned cycle in force (its code to be filled
+    /// in) with a new dwell, repeat count or peck. Pass 00 keeps the reading
+    /// that fits the mode in force, or its error.
+    NextPoint {
+        point: Result<Box<Spline>, crate::diag::Diagnostic>,
+        hole: Result<Box<Cycle>, crate::diag::Diagnostic>,
+    },
     /// G10 L2 (`relative` false): entry `entry` of the work-offsets table (0:
-    /// the one in force) is set to the given machine coordinates; G10 L20
-    /// (`relative`): set so that the current position reads as given.
+    /// the one in force) is set to the given machine coordinates, and with R
+    /// its coordinate system turned by `rotation` degrees about its origin
+    /// (counter-clockwise in XY, as LinuxCNC); G10 L20 (`relative`): set so
+    /// that the current position reads as given.
     SetWorkOffset {
         entry: u8,
         axes: Axes,
         relative: bool,
+        rotation: Option<Value>,
     },
 }

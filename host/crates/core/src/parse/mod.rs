@@ -334,7 +334,9 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 100) => Some("LPXYZR"),
         ('G', 280 | 300) => Some("XYZ"),
         ('G', 530) => Some("XYZF"),
-        ('G', 640) => Some("PQ"),
+        // G64 R is the planner's peak scale in newer LinuxCNC (its test
+        // g64-r-planner expects it); the Debian 2.9 pre-release refuses it.
+        ('G', 640) => Some("PQR"),
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => Some("XYZRQPLKF"),
         // The splines take every word a move might, so that a wrong one is
         // refused by name rather than made a move of its own.
@@ -379,14 +381,22 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
             Kind::Rotary([words.get('A'), words.get('B'), words.get('C')])
         }
         Head::Bare => {
-            if let Some((letter, value)) = words.list.iter().find(|(l, _)| !KNOWN_LETTERS.contains(*l)) {
+            // The lenient dialect's Q is a canned cycle's peck depth.
+            let known = |l: char| KNOWN_LETTERS.contains(l) || (l == 'Q' && dialect == Dialect::Lenient);
+            if let Some((letter, value)) = words.list.iter().find(|(l, _)| !known(*l)) {
                 return Err(unknown_letter(*letter, value.span));
             }
             match words.list[0] {
-                // A line of X Y P (or L) continues a NURBS (G5.2), if one is in force.
-                _ if dialect == Dialect::Lenient && words.has_any("PL") && words.has_any("XYZ") => {
+                // A line of X Y P (or L) with a centre is nothing but a bad NURBS point.
+                _ if dialect == Dialect::Lenient && words.has_any("PL") && words.has_any("IJK") => {
                     Kind::Spline(Box::new(spline(None, span, &words)?))
                 }
+                // Either the next point of a NURBS (G5.2) or, with new words,
+                // the next hole of a canned cycle: whichever is in force.
+                _ if dialect == Dialect::Lenient && words.has_any("PLQ") && words.has_any("XYZ") => Kind::NextPoint {
+                    point: spline(None, span, &words).map(Box::new),
+                    hole: cycle(810, span, &words).map(Box::new),
+                },
                 _ if words.has_any(ARC_WORDS) => {
                     words.only(ARC_WORDS, "a move")?;
                     Kind::Motion(Box::new(motion(None, &words, dialect)?))
@@ -602,14 +612,24 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 300) => Kind::Home { reference: Reference::Second, via: words.axes("XYZ") },
         ('G', 530) => Kind::MachineMove(Box::new(motion(None, words, Dialect::Lenient)?)),
         ('G', 100) => {
-            let relative =
-                match words.whole('L')? {
-                    Some(2) => false,
-                    Some(20) => true,
-                    _ => return Err(Diagnostic::error(span, "G10 sets work offsets with L2 or L20 only").with_help(
+            let relative = match words.whole('L')? {
+                Some(2) => false,
+                Some(20) => true,
+                // LinuxCNC's L1, L10, L11 and Fanuc's L10-L13 write the tool table.
+                Some(l @ (1 | 10..=13)) => {
+                    let tool = words.whole('P')?.map_or("a tool".to_string(), |p| format!("tool {p}"));
+                    let message = format!(
+                            "G10 L{l} writes {tool}'s offsets into the controller's tool table, which ger's output leaves to the controller (G43 H passes through), so ger cannot say where its later moves go"
+                        );
+                    return Err(Diagnostic::error(span, message)
+                        .with_help("set the tool's length and radius on the controller, not in the program"));
+                }
+                _ => {
+                    return Err(Diagnostic::error(span, "G10 sets work offsets with L2 or L20 only").with_help(
                         "G10 L2 P1 X.. Y.. Z.. sets G54's origin; G10 L20 P1 X.. makes the current position read X..",
-                    )),
-                };
+                    ))
+                }
+            };
             let entry = match words.whole('P')? {
                 Some(p) if p <= 9 => p as u8,
                 _ => {
@@ -617,12 +637,13 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                         .with_help("P1 is G54, P2 G55, ... P6 G59, P7 to P9 G59.1 to G59.3"))
                 }
             };
-            // LinuxCNC's R turns the coordinate system about Z, which ger does not model.
-            if let Some(r) = words.get('R').filter(|r| r.value != 0.0) {
-                return Err(Diagnostic::error(r.span, "a rotated coordinate system (G10 R) is not supported")
-                    .with_help("rotate the program in the CAM system, or leave out R"));
+            // R turns the coordinate system about its origin; LinuxCNC takes it with L2 only.
+            let rotation = words.get('R');
+            if let (Some(r), true) = (rotation, relative) {
+                return Err(Diagnostic::error(r.span, "R is not allowed with G10 L20")
+                    .with_help("turn the coordinate system with G10 L2 Pn R.., then set its origin with L20"));
             }
-            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative }
+            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative, rotation }
         }
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
             Kind::Cycle(Box::new(cycle(number, span, words)?))
@@ -868,7 +889,7 @@ fn unknown_letter(letter: char, span: Span) -> Diagnostic {
     let why = match letter {
         'A' | 'B' | 'C' => "rotary axes are not part of a 3-axis machine",
         'U' | 'V' | 'W' => "secondary linear axes are not part of a 3-axis machine",
-        'Q' => "Q belongs to canned cycles, which ger does not have",
+        'Q' => "Q belongs to canned cycles, which only the lenient dialect has",
         _ => "it is not a word ger knows",
     };
     Diagnostic::error(span, format!("`{letter}` word is not accepted: {why}"))
@@ -1051,8 +1072,19 @@ mod tests {
             parsed_lenient("G64 M19 R90 Q2 P1 S0"),
             ["1:19 SpindleSpeed(0.0)", "1:5 NoEffect(\"M19\")", "1:1 NoEffect(\"G64\")"]
         );
-        // G64 takes P and Q but no R, so R on a G64 line with no M19 is a move's word.
-        assert!(parsed_lenient("G64 P0.01 R1")[1].starts_with("1:11 Motion(Motion { mode: None"));
+        // G64 takes R too: LinuxCNC's test g64-r-planner expects `G64 P1 R0.5` to move nothing.
+        assert_eq!(parsed_lenient("G64 P0.01 R1"), ["1:1 NoEffect(\"G64\")"]);
+        // G61 takes no R: LinuxCNC's reject g64-r-on-g61.
+        assert!(parsed_lenient("G61 R0.5")[1].starts_with("1:5 Motion(Motion { mode: None"));
+    }
+
+    #[test]
+    fn g10_that_writes_the_tool_table_is_refused_with_its_reason() {
+        for (program, tool) in [("G10 L1 P1 Z3", "tool 1"), ("G10 L10 P2 Z0", "tool 2"), ("G10 L11 Z0", "a tool")] {
+            let got = &parsed_lenient(program)[0];
+            assert!(got.contains(&format!("writes {tool}'s offsets into the controller's tool table")), "{got}");
+        }
+        assert!(parsed_lenient("G10 L3 P1")[0].ends_with("G10 sets work offsets with L2 or L20 only"));
     }
 
     #[test]

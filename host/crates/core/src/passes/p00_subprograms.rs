@@ -249,6 +249,13 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             Kind::Program(number) => {
                 self.defining = Some((number, statement.span, Vec::new()));
                 if !self.defined.insert(number) {
+                    // LinuxCNC runs the first and reads past the second.
+                    if self.runtime.config.dialect.name == Dialect::Lenient {
+                        let message = format!("O{number} is defined again: calls run its first definition");
+                        let diagnostic = Diagnostic::warning(statement.span, message)
+                            .with_help("give each subprogram its own number, or remove the one that never runs");
+                        return Some(error(&statement, diagnostic));
+                    }
                     let diagnostic = Diagnostic::error(statement.span, format!("O{number} is defined twice"))
                         .with_help("give each subprogram its own number; calls run the first definition");
                     return Some(error(&statement, diagnostic));
@@ -299,6 +306,9 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
     /// Runs a statement in execution order: calls push a frame, moves get
     /// their motion mode.
     fn run(&mut self, mut statement: Statement) -> Option<Event> {
+        if let Kind::NextPoint { .. } = statement.kind {
+            return self.next_point(statement);
+        }
         match &mut statement.kind {
             Kind::Call { program, repeat } => {
                 let (program, repeat) = (*program, *repeat);
@@ -461,13 +471,41 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 self.cycle = None;
                 Some(Event::Statement(statement))
             }
-            // G80 ends the series; the others change nothing a later pass needs.
+            // G80 ends the series, here and in pass 04, which drops it.
             Kind::CycleCancel => {
                 self.cycle = None;
-                None
+                Some(Event::Statement(statement))
             }
             Kind::NoEffect(_) => None,
             _ => Some(Event::Statement(statement)),
+        }
+    }
+}
+
+impl<I: Iterator<Item = Event>> Subprograms<'_, I> {
+    /// A line of axis words with P, L or Q: a NURBS's next point, or the
+    /// next hole of the canned cycle in force, whichever is in force.
+    fn next_point(&mut self, statement: Statement) -> Option<Event> {
+        let Statement { kind: Kind::NextPoint { point, hole }, span, origin } = statement else {
+            unreachable!("run hands only NextPoint here")
+        };
+        let kind = match (self.after_spline, self.cycle, point, hole) {
+            (Some(AfterSpline::Nurbs), _, point, _) => point.map(Kind::Spline),
+            (None, Some(code), _, hole) => hole.map(|mut hole| {
+                hole.code = code;
+                Kind::Cycle(hole)
+            }),
+            // Neither: the spline's reading says what the mode in force does not take.
+            (_, _, Ok(point), _) => Ok(Kind::Spline(point)),
+            _ => {
+                let message = format!("P, L and Q are not used by {}, the motion mode in force", self.mode_name());
+                let help = "with no code, they go with a canned cycle (G81 ...) or a NURBS (G5.2) in force";
+                Err(Diagnostic::error(span, message).with_help(help))
+            }
+        };
+        match kind {
+            Ok(kind) => self.run(Statement { kind, span, origin }),
+            Err(diagnostic) => Some(Event::Diagnostic(diagnostic.with_origin(origin))),
         }
     }
 }
@@ -578,7 +616,9 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
 
 #[cfg(test)]
 mod tests {
+    use crate::config::Config;
     use crate::passes::testing::{run, run_with};
+    use crate::statement::Dialect;
 
     #[test]
     fn calls_are_replaced_by_the_body_l_times() {
@@ -617,6 +657,26 @@ mod tests {
     }
 
     #[test]
+    fn a_line_with_no_code_gives_a_canned_cycle_new_words() {
+        // As rs274 runs `X2 P1` after a G82 (a new dwell), `X1 L2` (two
+        // repeats) and `X6 Q2` after a G83 (a new peck).
+        let config = Config { dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program = "G82 X1 Y1 Z-2 R2 P0.5 F100\nX2 P1\nX1 L2\nG83 X5 Z-4 R2 Q1\nX6 Q2";
+        let got = run_with(program, &config, 0);
+        assert_eq!(
+            got[1..],
+            ["G82 X2.0000 P1.0000", "G82 X1.0000 L2", "G83 X5.0000 Z-4.0000 R2.0000 Q1.0000", "G83 X6.0000 Q2.0000"]
+        );
+        // With no cycle or NURBS in force they are an error.
+        let got = run_with("G01 X1 F10\nX2 P1\nX2 Y1 P1", &config, 0);
+        assert_eq!(got[1], "2:1: error: P, L and Q are not used by G01, the motion mode in force");
+        assert_eq!(got[2], "3:7: error: P is not used by G01, the motion mode in force");
+        // After G5.2 the same words are the next control point.
+        let got = run_with("G01 F100\nG5.2 X0 Y1 P1 L3\nX2 Y1 P1\nX3 Y0 P1\nG5.3", &config, 0);
+        assert_eq!(got[2..4], ["G5.2 X2.0000 Y1.0000 P1.0000", "G5.2 X3.0000 Y0.0000 P1.0000"]);
+    }
+
+    #[test]
     fn a_canned_cycle_repeats_only_at_a_position_and_has_no_centre() {
         let config = crate::config::Config { dialect: crate::statement::Dialect::Lenient.into(), ..Default::default() };
         let cycle = "G81 X0 Z-1 R0.1 F5\n";
@@ -640,6 +700,14 @@ mod tests {
     fn a_second_definition_is_an_error() {
         let got = run("M98 P1\nM30\nO1\nX1\nM99\nO1\nX2\nM99", 0);
         assert_eq!(got, ["G00 X1.0000", "M30", "6:1: error: O1 is defined twice"]);
+    }
+
+    #[test]
+    fn a_second_definition_is_read_past_in_the_lenient_dialect() {
+        // rs274 runs the first of two O2s (LinuxCNC's test m98m99/10-M98-P001), O0002 being O2.
+        let config = Config { dialect: Dialect::Lenient.into(), ..Config::default() };
+        let got = run_with("M98 P2\nM30\nO0002\nX1\nM99\nO2\nX2\nM99", &config, 0);
+        assert_eq!(got, ["G00 X1.0000", "M30", "6:1: warning: O2 is defined again: calls run its first definition"]);
     }
 
     #[test]

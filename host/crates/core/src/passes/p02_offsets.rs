@@ -5,6 +5,14 @@
 //! table), and puts canned cycles, splines and G28/G30's intermediate points
 //! in machine coordinates; G53 moves are in them already.
 //!
+//! A coordinate system may be turned about its origin (G10 L2 R, LinuxCNC's
+//! rotation): program X and Y are then turned by its angle before program
+//! zero is added, so every move's XY (its target, an arc's centre, a cycle's
+//! hole, a spline's control points) comes out turned. Plain G-code has no
+//! rotation, but a turned line is a line and a turned arc an arc, so the
+//! output says the same path. Machine coordinates (G53, G28/G30's reference
+//! point) are not turned, as in LinuxCNC.
+//!
 //! None of these codes may be used in polar (G16), incremental (G91) or
 //! cutter comp (G41/G42) mode. G92 and G10 L20 need the tool's position: they
 //! read it from the probe, which pass 04 keeps (passes 01-04 have no
@@ -14,19 +22,24 @@ use super::{Out, Pass};
 use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
 use crate::state::Probe;
-use crate::statement::{Axes, Dialect, Distance, Kind, Offset, Plane, Statement};
+use crate::statement::{Axes, Dialect, Distance, Kind, MotionMode, Offset, Plane, Reference, Statement, Value};
 
 pub struct Offsets {
     /// G54..G59.3 and the extended offsets, in machine coordinates.
     table: Vec<[f64; 3]>,
+    /// Each entry's rotation about its origin, degrees counter-clockwise in XY.
+    rotations: Vec<f64>,
     /// Machine coordinates of program zero.
     prz: [f64; 3],
+    /// The rotation of the coordinate system in force (that of `system`).
+    rotation: f64,
     /// The table entry program zero comes from, if it does (not after G52/G92).
     entry_in_force: Option<u8>,
     /// The coordinate system last selected (G54 until another): G92.1-G92.3
     /// put program zero back on it.
     system: u8,
-    /// The G52/G92 offset from that system, as LinuxCNC keeps it for G92.3.
+    /// The G52/G92 offset from that system, as LinuxCNC keeps it for G92.3,
+    /// along the system's own (turned) axes.
     kept_g92: [f64; 3],
     /// G90.1: I, J and K are absolute, so they move with program zero.
     absolute_centres: bool,
@@ -44,7 +57,9 @@ impl Offsets {
     pub fn new(table: &WorkOffsets, dialect: Dialect, probe: Probe) -> Offsets {
         Offsets {
             table: (1..=WORK_OFFSETS).map(|entry| table.entry(entry as u8)).collect(),
+            rotations: vec![0.0; WORK_OFFSETS],
             prz: [0.0; 3],
+            rotation: 0.0,
             entry_in_force: None,
             system: 1,
             kept_g92: [0.0; 3],
@@ -70,19 +85,123 @@ impl Offsets {
         }
     }
 
-    /// Moves absolute coordinates from program to machine coordinates.
+    fn rotated(&self) -> bool {
+        self.rotation.rem_euclid(360.0) != 0.0
+    }
+
+    /// Moves a target from program to machine coordinates: absolute ones are
+    /// turned about program zero and moved by it, steps (G91) only turned.
+    /// In a turned system a target with X or Y gets both, since each of the
+    /// machine's moves with either; the one not written is where the tool is.
     fn to_machine(&self, axes: Axes) -> Axes {
-        match self.distance {
-            Distance::Absolute => axes.map(|axis, v| v + self.prz[axis]),
-            Distance::Incremental => axes,
+        let absolute = self.distance == Distance::Absolute;
+        let mut machine = match absolute {
+            true => axes.map(|axis, v| v + self.prz[axis]),
+            false => axes,
+        };
+        let Some(span) = axes.x.or(axes.y).map(|v| v.span).filter(|_| self.rotated()) else {
+            return machine;
+        };
+        let at = self.program_position();
+        let given = |axis: usize, otherwise: f64| axes.get(axis).map_or(otherwise, |v| v.value);
+        let (x, y) = match absolute {
+            true => (given(0, at[0]), given(1, at[1])),
+            false => (given(0, 0.0), given(1, 0.0)),
+        };
+        let [x, y] = turn([x, y], self.rotation);
+        let origin = if absolute { [self.prz[0], self.prz[1]] } else { [0.0; 2] };
+        machine.x = Some(Value { value: x + origin[0], span: axes.x.map_or(span, |v| v.span) });
+        machine.y = Some(Value { value: y + origin[1], span: axes.y.map_or(span, |v| v.span) });
+        machine
+    }
+
+    /// I and J from an arc's start (or, in G90.1, the centre's program
+    /// coordinates, which need both), turned with the system.
+    fn centre_to_machine(&self, centre: Axes) -> Axes {
+        let mut machine = match self.absolute_centres {
+            true => centre.map(|axis, v| v + self.prz[axis]),
+            false => centre,
+        };
+        let Some(span) = centre.x.or(centre.y).map(|v| v.span).filter(|_| self.rotated()) else {
+            return machine;
+        };
+        if self.absolute_centres && (centre.x.is_none() || centre.y.is_none()) {
+            // Pass 04 says that G90.1 needs both.
+            return centre;
         }
+        let given = |axis: usize| centre.get(axis).map_or(0.0, |v| v.value);
+        let [i, j] = turn([given(0), given(1)], self.rotation);
+        let origin = if self.absolute_centres { [self.prz[0], self.prz[1]] } else { [0.0; 2] };
+        machine.x = Some(Value { value: i + origin[0], span: centre.x.map_or(span, |v| v.span) });
+        machine.y = Some(Value { value: j + origin[1], span: centre.y.map_or(span, |v| v.span) });
+        machine
+    }
+
+    /// Where the tool is, in program coordinates.
+    fn program_position(&self) -> [f64; 3] {
+        let position = self.probe.borrow().position;
+        let [x, y] = turn([position[0] - self.prz[0], position[1] - self.prz[1]], -self.rotation);
+        [x, y, position[2] - self.prz[2]]
     }
 
     fn set_prz(&mut self, prz: [f64; 3], entry: Option<u8>) {
         self.prz = prz;
         self.entry_in_force = entry;
-        self.probe.borrow_mut().prz = prz;
+        let mut probe = self.probe.borrow_mut();
+        probe.prz = prz;
+        probe.rotation = self.rotation;
     }
+
+    /// Machine coordinates of program zero `offset` along the axes of the system in force.
+    fn in_system(&self, offset: [f64; 3]) -> [f64; 3] {
+        let system = self.table[usize::from(self.system - 1)];
+        let [x, y] = turn([offset[0], offset[1]], self.rotation);
+        [system[0] + x, system[1] + y, system[2] + offset[2]]
+    }
+
+    /// What makes a turned coordinate system's output uncertain, if anything:
+    /// a plane other than XY turns out of every plane G-code can name.
+    fn refused_when_rotated(&self, statement: &Statement) -> Option<Diagnostic> {
+        if !self.rotated() {
+            return None;
+        }
+        let plane_move = match &statement.kind {
+            Kind::Motion(motion) => motion.mode.is_some_and(MotionMode::is_arc) && motion.moves(),
+            Kind::Cycle(_) => true,
+            _ => false,
+        };
+        let span = statement.span;
+        let angle = self.rotation;
+        if plane_move && self.plane != Plane::XY {
+            let message = format!(
+                "cannot use {} in a coordinate system turned by {angle}° (G10 R): turned about Z, its plane is none that G-code names",
+                self.plane.code()
+            );
+            return Some(Diagnostic::error(span, message).with_help("select G17 in a turned coordinate system"));
+        }
+        if self.polar && matches!(statement.kind, Kind::Motion(_)) {
+            let message =
+                format!("cannot move in polar coordinates (G16) in a coordinate system turned by {angle}° (G10 R)");
+            return Some(Diagnostic::error(span, message).with_help("turn polar coordinates off with G15"));
+        }
+        if let Kind::Home { reference, via } = &statement.kind {
+            if via.x.is_some() || via.y.is_some() {
+                let code = if *reference == Reference::Home { "G28" } else { "G30" };
+                let message = format!(
+                    "cannot name X or Y on {code} in a coordinate system turned by {angle}° (G10 R): LinuxCNC sends them to the reference point's coordinates along the turned axes, which is not the reference point"
+                );
+                let help = format!("write {code} alone, or with Z only, or move with G53 first");
+                return Some(Diagnostic::error(span, message).with_help(help));
+            }
+        }
+        None
+    }
+}
+
+/// `v` turned by `degrees` counter-clockwise.
+fn turn(v: [f64; 2], degrees: f64) -> [f64; 2] {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    [v[0] * cos - v[1] * sin, v[0] * sin + v[1] * cos]
 }
 
 impl Pass for Offsets {
@@ -91,6 +210,9 @@ impl Pass for Offsets {
             Diagnostic::error(statement.span, format!("cannot use {code} with cutter radius compensation (G41/G42) on"))
                 .with_help("cancel it with G40 first")
         };
+        if let Some(diagnostic) = self.refused_when_rotated(&statement) {
+            return out.error(&statement, diagnostic);
+        }
         match &mut statement.kind {
             Kind::Distance(distance) => self.distance = *distance,
             // Pass 03 refuses G16 outside G91; a refused G16 leaves polar off.
@@ -103,20 +225,26 @@ impl Pass for Offsets {
                     out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
                     return;
                 }
-                let given = |axis: usize| axes.get(axis).map_or(0.0, |v| v.value);
+                let given = [0, 1, 2].map(|axis| axes.get(axis).map_or(0.0, |v| v.value));
                 let position = self.probe.borrow().position;
                 let system = self.table[usize::from(self.system - 1)];
                 match code {
                     Offset::G52 | Offset::G92 => {
                         let prz = match code {
-                            Offset::G52 => [given(0), given(1), given(2)],
-                            _ => std::array::from_fn(|axis| position[axis] - given(axis)),
+                            Offset::G52 => given,
+                            _ => {
+                                // The tool reads as given along the turned axes.
+                                let [x, y] = turn([given[0], given[1]], self.rotation);
+                                [position[0] - x, position[1] - y, position[2] - given[2]]
+                            }
                         };
-                        self.kept_g92 = std::array::from_fn(|axis| prz[axis] - system[axis]);
+                        let [x, y] = turn([prz[0] - system[0], prz[1] - system[1]], -self.rotation);
+                        self.kept_g92 = [x, y, prz[2] - system[2]];
                         self.set_prz(prz, None);
                     }
                     Offset::WorkOffset(entry) => {
                         self.system = *entry;
+                        self.rotation = self.rotations[usize::from(*entry - 1)];
                         self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry));
                     }
                     Offset::G92Cancel { keep } => {
@@ -125,36 +253,49 @@ impl Pass for Offsets {
                         }
                         self.set_prz(system, Some(self.system));
                     }
-                    Offset::G92Restore => {
-                        let prz = std::array::from_fn(|axis| system[axis] + self.kept_g92[axis]);
-                        self.set_prz(prz, None);
-                    }
+                    Offset::G92Restore => self.set_prz(self.in_system(self.kept_g92), None),
                 }
                 return;
             }
-            Kind::SetWorkOffset { entry, axes, relative } => {
+            Kind::SetWorkOffset { entry, axes, relative, rotation } => {
                 if self.comp {
                     return out.error(&statement, comp_refuses("G10"));
                 }
                 let entry = if *entry == 0 { self.system } else { *entry };
+                let index = usize::from(entry - 1);
                 let position = self.probe.borrow().position;
-                let row = &mut self.table[usize::from(entry - 1)];
-                for (axis, value) in row.iter_mut().enumerate() {
-                    if let Some(v) = axes.get(axis) {
-                        *value = if *relative { position[axis] - v.value } else { v.value };
+                if *relative {
+                    // Where the tool is along the entry's own axes, with the
+                    // coordinates given in place of its own.
+                    let (origin, angle) = (self.table[index], self.rotations[index]);
+                    let [x, y] = turn([position[0] - origin[0], position[1] - origin[1]], -angle);
+                    let reads = [x, y, position[2] - origin[2]];
+                    let reads: [f64; 3] = std::array::from_fn(|axis| axes.get(axis).map_or(reads[axis], |v| v.value));
+                    let [x, y] = turn([reads[0], reads[1]], angle);
+                    self.table[index] = [position[0] - x, position[1] - y, position[2] - reads[2]];
+                } else {
+                    for (axis, value) in self.table[index].iter_mut().enumerate() {
+                        if let Some(v) = axes.get(axis) {
+                            *value = v.value;
+                        }
                     }
                 }
-                if self.entry_in_force == Some(entry) {
-                    self.set_prz(self.table[usize::from(entry - 1)], Some(entry));
+                if let Some(r) = rotation {
+                    self.rotations[index] = r.value;
+                }
+                if entry == self.system {
+                    self.rotation = self.rotations[index];
+                    match self.entry_in_force {
+                        Some(e) if e == entry => self.set_prz(self.table[index], Some(entry)),
+                        _ => self.set_prz(self.prz, self.entry_in_force),
+                    }
                 }
                 return;
             }
             Kind::ArcCentres(distance) => self.absolute_centres = *distance == Distance::Absolute,
             Kind::Motion(motion) => {
                 motion.target = self.to_machine(motion.target);
-                if self.absolute_centres {
-                    motion.centre = motion.centre.map(|axis, v| v + self.prz[axis]);
-                }
+                motion.centre = self.centre_to_machine(motion.centre);
             }
             Kind::Plane(plane) => self.plane = *plane,
             Kind::Cycle(cycle) => {
@@ -166,7 +307,7 @@ impl Pass for Offsets {
             }
             Kind::Home { reference, via } => {
                 if self.comp {
-                    let code = if *reference == crate::statement::Reference::Home { "G28" } else { "G30" };
+                    let code = if *reference == Reference::Home { "G28" } else { "G30" };
                     return out.error(&statement, comp_refuses(code));
                 }
                 *via = self.to_machine(*via);
@@ -178,7 +319,17 @@ impl Pass for Offsets {
                 return out.error(&statement, comp_refuses(code));
             }
             Kind::NurbsEnd if self.comp => return out.error(&statement, comp_refuses("G5.3")),
-            Kind::Spline(spline) => spline.target = self.to_machine(spline.target),
+            Kind::Spline(spline) => {
+                spline.target = self.to_machine(spline.target);
+                // Control points from the start or the end are steps: turned, not moved.
+                let distance = std::mem::replace(&mut self.distance, Distance::Incremental);
+                for step in [&mut spline.first, &mut spline.second] {
+                    if step.x.is_some() && step.y.is_some() {
+                        *step = self.to_machine(*step);
+                    }
+                }
+                self.distance = distance;
+            }
             _ => {}
         }
         out.push(statement);
@@ -189,6 +340,7 @@ impl Pass for Offsets {
 mod tests {
     use crate::config::{Config, WorkOffsets};
     use crate::passes::testing::{run, run_with};
+    use crate::statement::Dialect;
 
     #[test]
     fn g52_moves_program_zero_and_omitted_axes_are_zero() {
@@ -216,6 +368,81 @@ mod tests {
         // Polar move of 2 at 90 degrees from (0,0): the tool is at (0, 2).
         let got = run("G91\nG16\nG00 X2 Y90\nG15\nG90\nG92 X0 Y0\nG00 X1 Y0", 2);
         assert_eq!(got.last().unwrap(), "G00 X1.0000 Y2.0000");
+    }
+
+    fn lenient(text: &str, stage: u8) -> Vec<String> {
+        run_with(text, &Config { dialect: Dialect::Lenient.into(), ..Config::default() }, stage)
+    }
+
+    #[test]
+    fn a_turned_system_turns_targets_about_its_origin() {
+        // Turned 90°, (x, y) is (-y, x) from the origin (10, 20). The tool
+        // starts at machine zero, program (-20, 10): X1 keeps that Y.
+        let got = lenient("G10 L2 P1 X10 Y20 R90\nG54\nG00 X1\nG01 X1 Y2 Z-1 F10\nG91 X3\nG90 Y0", 2);
+        assert_eq!(
+            got,
+            [
+                "G00 X0.0000 Y21.0000",
+                "G01 X8.0000 Y21.0000 Z-1.0000 F10.0000",
+                "G91",
+                "G01 X0.0000 Y3.0000",
+                "G90",
+                "G01 X10.0000 Y24.0000"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_turned_arc_is_an_arc_with_its_centre_turned() {
+        // From program (1, 0) (machine (0, 1)) clockwise round program zero to (0, -1):
+        // in machine coordinates from (0, 1) round (0, 0) to (1, 0).
+        let got = lenient("G10 L2 P1 R90\nG54\nG00 X1 Y0\nG02 X0 Y-1 I-1 J0 F10\nG90.1\nG03 X1 Y0 I0 J0", 4);
+        assert_eq!(
+            got,
+            [
+                "G00 X0.0000 Y1.0000",
+                "G02 X1.0000 Y0.0000 I0.0000 J-1.0000 F10.0000",
+                "G03 X0.0000 Y1.0000 I-1.0000 J0.0000"
+            ]
+        );
+    }
+
+    #[test]
+    fn machine_coordinates_are_not_turned() {
+        let got = lenient("G10 L2 P1 X5 R90\nG54\nG53 G00 X1 Y2\nG28\nG91 G28 Z1", 4);
+        assert_eq!(got, ["G00 X1.0000 Y2.0000", "G00 X0.0000 Y0.0000", "G00 Z1.0000", "G00 Z0.0000"]);
+    }
+
+    #[test]
+    fn g92_and_g10_l20_read_along_the_turned_axes() {
+        // At machine (0, 1), program (1, 0): G92 makes it program zero.
+        let got = lenient("G10 L2 P1 R90\nG54\nG00 X1\nG92 X0 Y0\nG00 X1\nG92.1\nG00 X1", 4);
+        assert_eq!(got, ["G00 X0.0000 Y1.0000", "G00 X0.0000 Y2.0000", "G00 X0.0000 Y1.0000"]);
+        // LinuxCNC's own test: turned 45° at machine zero, L20 X-1 puts the
+        // origin at (0.7071, 0.7071), where program zero then is.
+        let got = lenient("G10 L2 P1 R45\nG54\nG10 L20 P1 X-1\nG00 X0", 4);
+        assert_eq!(got, ["G00 X0.7071 Y0.7071"]);
+        assert_eq!(lenient("G10 L20 P1 R45", 4)[0], "1:12: error: R is not allowed with G10 L20");
+    }
+
+    #[test]
+    fn another_system_has_its_own_rotation() {
+        // G55 turned 90°: program (1, 0) is machine (0, 1). G54 is not
+        // turned until R180 makes program (2, -1) of machine (2, 1), and X2
+        // goes to program (2, -1), machine (-2, 1).
+        let got = lenient("G10 L2 P2 R90\nG55\nG00 X1 Y0\nG54\nX2\nG10 L2 P0 R180\nX2", 4);
+        assert_eq!(got, ["G00 X0.0000 Y1.0000", "G00 X2.0000", "G00 X-2.0000 Y1.0000"]);
+    }
+
+    #[test]
+    fn what_a_turn_would_take_out_of_plain_g_code_is_refused() {
+        let got = lenient("G10 L2 P1 R30\nG54\nG18\nG02 X1 Z1 I1 F10", 4);
+        assert!(got[1].starts_with("4:1: error: cannot use G18 in a coordinate system turned by 30°"), "{got:?}");
+        let got = lenient("G10 L2 P1 R30\nG54\nG28 X1", 4);
+        assert!(got[0].starts_with("3:1: error: cannot name X or Y on G28 in a coordinate system turned"), "{got:?}");
+        // A turn of a whole number of turns turns nothing.
+        let got = lenient("G10 L2 P1 R360\nG54\nG18\nG02 X1 Z1 I1 F10\nG28 X1", 4);
+        assert_eq!(got, ["G18", "G02 X1.0000 Z1.0000 I1.0000 K0.0000 F10.0000", "G00 X0.0000"]);
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! Canned cycles (lenient dialect), expanded to rapids, feeds and dwells with
 //! LinuxCNC's meaning: at each position the tool rapids over the hole (first
 //! up to the R plane if it is below it), down to R, cuts to Z in the cycle's
-//! way, and retracts to where it started (G98, but never below R) or to R (G99).
+//! way, and retracts to the level where the series of cycles began (G98, but
+//! never below R; LinuxCNC's initial level, kept from one cycle code to the
+//! next until G80 or another move) or to R (G99).
 //! In G91, R is measured from the Z where the cycle starts and Z from R, and
 //! each of the L repeats steps X/Y again. Z, R, Q and P carry over from one
 //! cycle to the next, so `X10` after a `G81` drills another hole alike.
@@ -15,10 +17,15 @@ use crate::statement::{Cycle, CycleCode, Distance, Kind, Machine, MotionMode, Re
 #[derive(Default)]
 pub struct CycleState {
     pub retract: Retract,
+    /// Z and R as the program wrote them (absolute ones less program zero):
+    /// LinuxCNC carries the number over, read in the distance mode of the
+    /// cycle that uses it.
     z: Option<f64>,
     r: Option<f64>,
     q: Option<f64>,
     p: Option<f64>,
+    /// Where along the hole's axis the series of cycles began: G98 retracts there.
+    pub initial: Option<f64>,
     /// The holes of the cycle block being expanded, made one at a time.
     pending: Option<Holes>,
 }
@@ -28,8 +35,8 @@ pub struct CycleState {
 struct Holes {
     statement: Statement,
     left: u32,
-    /// Where along the hole's axis the block began: G98 retracts there.
-    start: f64,
+    /// The series' initial level.
+    initial: f64,
     r_plane: f64,
     bottom: f64,
     q: Option<f64>,
@@ -50,19 +57,24 @@ impl Absolute {
     /// where not given) and levels. The holes are made by [`Absolute::next_hole`].
     pub(super) fn cycle(&mut self, cycle: &Cycle, statement: &Statement) -> Result<(), Diagnostic> {
         let code = cycle.code.code();
-        let sticky = &mut self.cycles;
-        let given = |v: Option<crate::statement::Value>, keep: &mut Option<f64>| {
-            if let Some(v) = v {
-                *keep = Some(v.value);
-            }
-            *keep
-        };
         // The hole runs along the plane's normal: Z in G17, Y in G18, X in G19.
         let n = self.plane.axes().2;
-        let z = given(cycle.target.get(n), &mut sticky.z);
-        let r = given(cycle.r, &mut sticky.r);
-        let q = given(cycle.q, &mut sticky.q);
-        let p = given(cycle.p, &mut sticky.p);
+        // Pass 02 has put absolute levels in machine coordinates.
+        let zero = match self.distance {
+            Distance::Absolute => self.probe.borrow().prz[n],
+            Distance::Incremental => 0.0,
+        };
+        let sticky = &mut self.cycles;
+        let given = |v: Option<crate::statement::Value>, keep: &mut Option<f64>, zero: f64| {
+            if let Some(v) = v {
+                *keep = Some(v.value - zero);
+            }
+            keep.map(|number| number + zero)
+        };
+        let z = given(cycle.target.get(n), &mut sticky.z, zero);
+        let r = given(cycle.r, &mut sticky.r, zero);
+        let q = given(cycle.q, &mut sticky.q, 0.0);
+        let p = given(cycle.p, &mut sticky.p, 0.0);
         if let Some(f) = cycle.feed {
             self.feed = Some(f.value);
         }
@@ -112,9 +124,10 @@ impl Absolute {
             );
         }
         // L0 (Fanuc's K0) keeps the cycle's words and drills nothing.
+        let initial = *self.cycles.initial.get_or_insert(start);
         if cycle.repeat > 0 {
             let statement = statement.clone();
-            self.cycles.pending = Some(Holes { statement, left: cycle.repeat, start, r_plane, bottom, q, p });
+            self.cycles.pending = Some(Holes { statement, left: cycle.repeat, initial, r_plane, bottom, q, p });
         }
         Ok(())
     }
@@ -134,7 +147,7 @@ impl Absolute {
             }
         }
         let clear = match self.cycles.retract {
-            Retract::Initial => holes.start.max(r_plane),
+            Retract::Initial => holes.initial.max(r_plane),
             Retract::RPlane => r_plane,
         };
         let at = |depth: f64| {
@@ -227,5 +240,55 @@ impl Absolute {
 
     fn spindle(&mut self, code: Machine, s: Option<f64>, statement: &Statement, out: &mut Out) {
         self.rewrite(statement.with_kind(Kind::Machine { code, s, t: None }), out);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::{Config, WorkOffsets};
+    use crate::passes::testing::run_with;
+    use crate::statement::{Dialect, Units};
+
+    #[test]
+    fn g98_retracts_to_where_the_series_began_until_g80() {
+        // As rs274 runs it: the G99 series ends at R2, and the G98 series
+        // after G80 begins there, so the G82 with R5 retracts to R5 and the
+        // next hole, with R1, to Z2, where the series began (not to Z5,
+        // where its block began).
+        let config = Config { units: Units::Mm, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program = "G00 Z10\nG99 G81 X1 Z-2 R2 F100\nG80\nG98 G81 X2 Z-2 R1\nG82 X3 Z-2 R5 P1\nX4 R1";
+        let got = run_with(program, &config, 4);
+        let retracts: Vec<&str> = got
+            .iter()
+            .zip(got.iter().skip(1))
+            .filter(|(_, next)| next.starts_with("G00 X"))
+            .map(|(r, _)| r.as_str())
+            .collect();
+        // Before each hole: the start, the G99 retract, the climb to R5, its retract.
+        assert_eq!(retracts, ["G00 Z10.000", "G00 Z2.000", "G00 Z5.000", "G00 Z5.000"]);
+        assert_eq!(got.last().unwrap(), "G00 Z2.000");
+    }
+
+    #[test]
+    fn carried_over_levels_are_the_numbers_written_read_in_the_new_distance_mode() {
+        // G55's Z is -10. The first hole's R2 and Z-3 carry over to a G91
+        // cycle as +2 and -3 from where it starts (program Z15): rs274 goes
+        // to program Z17 and cuts to Z14, machine Z7 and Z4.
+        let offsets = WorkOffsets { g55: Some([100.0, 50.0, -10.0]), ..Default::default() };
+        let config = Config { offsets, units: Units::Mm, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program = "G55\nG00 X1 Y1 Z15\nG98 G81 X5 Y5 Z-3 R2 F100\nG91 G81 X1 Y1 L2\nG90 G80";
+        let got = run_with(program, &config, 4);
+        assert_eq!(
+            got[got.len() - 7..],
+            [
+                "G00 Z7.000",
+                "G00 X106.000 Y56.000",
+                "G01 Z4.000",
+                "G00 Z7.000",
+                "G00 X107.000 Y57.000",
+                "G01 Z4.000",
+                "G00 Z7.000"
+            ]
+        );
     }
 }

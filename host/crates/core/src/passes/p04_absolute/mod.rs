@@ -390,6 +390,15 @@ impl Absolute {
             Kind::NurbsEnd => Some(self.nurbs_end(&statement, out)),
             _ => None,
         };
+        // Any move but a cycle's ends the series of cycles (LinuxCNC's initial level goes).
+        let moves = match &statement.kind {
+            Kind::Motion(motion) | Kind::MachineMove(motion) => motion.moves(),
+            Kind::Home { .. } | Kind::CycleCancel => true,
+            _ => drawn.is_some(),
+        };
+        if moves {
+            self.cycles.initial = None;
+        }
         if let Some(result) = drawn {
             if let Err(diagnostic) = result {
                 out.error(&statement, diagnostic);
@@ -491,6 +500,7 @@ impl Absolute {
                 self.cycles.retract = *retract;
                 return;
             }
+            Kind::CycleCancel => return,
             Kind::Home { reference, via } => {
                 let (reference, via) = (*reference, *via);
                 return self.home(reference, via, &statement, out);
