@@ -265,6 +265,35 @@ fn drill_grid_drills_every_hole_in_pecks_and_never_rapids_into_the_material() {
 }
 
 #[test]
+fn face_leaves_the_whole_rectangle_flat_at_its_depth() {
+    // A 60 x 40 stock faced 1.5 deep in levels of 0.5 with a 12 mm endmill.
+    let config = "units = \"mm\"\n[stock]\nsize = [60, 40, 10]\norigin = [0, 0, 10]\n\
+                  [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 12\n";
+    let program = "G21 G90\nM06 T1\nM03 S12000\nG00 X0 Y0 Z5\nG00 Z0\nF600\nFace 60 40 1.5 0.5\nG00 Z5\nM05\nM30\n";
+    let (status, report) = denied_check(program, config);
+    assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])));
+    // The simulated part, cell by cell: everything at Z-1.5.
+    let config = Config::from_toml(config).unwrap();
+    let wizards = WasmWizards::new(&repo("wizards"), &config, Limits::default(), None);
+    let source = ger_engine::Source::text("face.ngc", ".", program);
+    let mut part = ger_engine::Program::new(source, config).with_wizards(Box::new(wizards));
+    let (stock, report) = part.stock(&mut ger_engine::Silent);
+    assert_eq!(report.errors(), 0);
+    let resolution = ger_engine::Resolution { cell: Some(0.25), ..Default::default() };
+    let simulation = part.simulation(stock, resolution).unwrap();
+    let (field, report) = part.simulate(simulation, &mut ger_engine::Silent);
+    assert_eq!(report.errors(), 0);
+    let mut heights = Vec::new();
+    for i in 0..field.nx {
+        for j in 0..field.ny {
+            heights.push(field.get(i, j));
+        }
+    }
+    let (low, high) = heights.iter().fold((f64::MAX, f64::MIN), |(lo, hi), h| (lo.min(*h), hi.max(*h)));
+    assert!((low + 1.5).abs() < 1e-6 && (high + 1.5).abs() < 1e-6, "heights from {low} to {high}");
+}
+
+#[test]
 fn the_example_pocket_passes_the_check_with_warnings_denied() {
     // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
