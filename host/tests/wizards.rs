@@ -264,6 +264,90 @@ fn drill_grid_drills_every_hole_in_pecks_and_never_rapids_into_the_material() {
     }
 }
 
+/// The part `program` cuts in the machine of `config`, simulated at `cell`.
+fn simulated(program: &str, config: &str, cell: f64) -> ger_sim::field::HeightField {
+    let config = Config::from_toml(config).unwrap();
+    let wizards = WasmWizards::new(&repo("wizards"), &config, Limits::default(), None);
+    let source = ger_engine::Source::text("part.ngc", ".", program);
+    let mut part = ger_engine::Program::new(source, config).with_wizards(Box::new(wizards));
+    let (stock, report) = part.stock(&mut ger_engine::Silent);
+    assert_eq!(report.errors(), 0);
+    let resolution = ger_engine::Resolution { cell: Some(cell), ..Default::default() };
+    let simulation = part.simulation(stock, resolution).unwrap();
+    let (field, report) = part.simulate(simulation, &mut ger_engine::Silent);
+    assert_eq!(report.errors(), 0);
+    field
+}
+
+/// The height of the cell of `field` at `x`, `y`.
+fn height_at(field: &ger_sim::field::HeightField, x: f64, y: f64) -> f64 {
+    let (i, j) = ((x - field.stock.min[0]) / field.cell, (y - field.stock.min[1]) / field.cell_y());
+    let (i, j) = (i.floor() as usize, j.floor() as usize);
+    let centre = field.centre(i, j);
+    assert!((centre[0] - x).abs() <= field.cell && (centre[1] - y).abs() <= field.cell_y(), "{centre:?} for {x}, {y}");
+    field.get(i, j)
+}
+
+#[test]
+fn profile_cuts_a_groove_round_the_outside_or_the_inside_and_nothing_else() {
+    let config = "units = \"mm\"\n[stock]\nsize = [120, 100, 10]\norigin = [0, 0, 10]\n\
+                  [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n";
+    let program =
+        |call: &str| format!("G21 G90\nM06 T1\nM03 S12000\nG00 X20 Y20 Z5\nG00 Z0\nF600\n{call}\nG00 Z5\nM05\nM30\n");
+    // A 60 x 40 rectangle from X20 Y20, 6 deep, with a 6 mm endmill: (point, cut or not).
+    let outside: &[([f64; 2], bool)] = &[
+        ([50.0, 40.0], false), // the part
+        ([20.5, 40.0], false), // just inside its left edge
+        ([17.0, 40.0], true),  // the groove's middle
+        ([13.5, 40.0], false), // past the groove
+        ([18.0, 18.0], true),  // round the sharp corner: 2.8 from it
+        ([15.5, 15.5], false), // 6.4 from it
+        ([83.0, 50.0], true),  // the right edge's groove
+        ([50.0, 63.0], true),  // the top's
+    ];
+    // Inside, with corners of radius 10: a ring 6 wide inside the wall; the middle stays.
+    let c = 30.0 - 9.0 * std::f64::consts::FRAC_1_SQRT_2;
+    let inside: &[([f64; 2], bool)] = &[
+        ([50.0, 40.0], false), // the island
+        ([23.0, 40.0], true),  // the ring
+        ([19.5, 40.0], false), // outside the hole
+        ([21.0, 21.0], false), // the rounded corner keeps this
+        ([c, c], true),        // 9 from the corner's centre: in the hole's corner
+        ([77.0, 30.0], true),
+    ];
+    for (call, points) in [("Profile 60 40 6", outside), ("Profile 60 40 6 \"inside\" 10", inside)] {
+        let (status, report) = denied_check(&program(call), config);
+        assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
+        let field = simulated(&program(call), config, 0.2);
+        for (point, cut) in points {
+            let height = height_at(&field, point[0], point[1]);
+            let expected = if *cut { -6.0 } else { 0.0 };
+            assert!((height - expected).abs() < 1e-6, "{call}: Z{height} at {point:?}");
+        }
+    }
+    // A circle: CORNER half the sides, entered by a helix.
+    let (status, report) = denied_check(&program("Profile 40 40 6 \"inside\" 20"), config);
+    assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])));
+    let field = simulated(&program("Profile 40 40 6 \"inside\" 20"), config, 0.2);
+    for (point, cut) in [([40.0, 40.0], false), ([40.0, 23.0], true), ([57.0, 40.0], true), ([22.0, 22.0], false)] {
+        let height = height_at(&field, point[0], point[1]);
+        assert!((height - if cut { -6.0 } else { 0.0 }).abs() < 1e-6, "circle: Z{height} at {point:?}");
+    }
+    // What cannot be cut is an error at the call.
+    let (_, diagnostics) = run(
+        "wizards",
+        &mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n"),
+        &program("Profile 5 40 2 \"inside\""),
+    );
+    assert!(diagnostics.len() == 1 && diagnostics[0].contains("does not fit inside"), "{diagnostics:?}");
+    let (_, diagnostics) = run(
+        "wizards",
+        &mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n"),
+        &program("Profile 60 40 6 \"round\""),
+    );
+    assert!(diagnostics.len() == 1 && diagnostics[0].contains("\"outside\" or \"inside\""), "{diagnostics:?}");
+}
+
 #[test]
 fn face_leaves_the_whole_rectangle_flat_at_its_depth() {
     // A 60 x 40 stock faced 1.5 deep in levels of 0.5 with a 12 mm endmill.
@@ -273,16 +357,7 @@ fn face_leaves_the_whole_rectangle_flat_at_its_depth() {
     let (status, report) = denied_check(program, config);
     assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])));
     // The simulated part, cell by cell: everything at Z-1.5.
-    let config = Config::from_toml(config).unwrap();
-    let wizards = WasmWizards::new(&repo("wizards"), &config, Limits::default(), None);
-    let source = ger_engine::Source::text("face.ngc", ".", program);
-    let mut part = ger_engine::Program::new(source, config).with_wizards(Box::new(wizards));
-    let (stock, report) = part.stock(&mut ger_engine::Silent);
-    assert_eq!(report.errors(), 0);
-    let resolution = ger_engine::Resolution { cell: Some(0.25), ..Default::default() };
-    let simulation = part.simulation(stock, resolution).unwrap();
-    let (field, report) = part.simulate(simulation, &mut ger_engine::Silent);
-    assert_eq!(report.errors(), 0);
+    let field = simulated(program, config, 0.25);
     let mut heights = Vec::new();
     for i in 0..field.nx {
         for j in 0..field.ny {
