@@ -369,6 +369,54 @@ fn face_leaves_the_whole_rectangle_flat_at_its_depth() {
 }
 
 #[test]
+fn thread_mill_climbs_one_pitch_a_turn_to_the_major_diameter() {
+    // An M12 x 1.75 tapped hole 10 deep, bored first to 10.2 (its minor diameter is 10.106),
+    // threaded in 2 passes with an 8 mm cutter.
+    let config = "units = \"mm\"\n[stock]\nsize = [60, 60, 20]\norigin = [0, 0, 20]\n\
+                  [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n\
+                  [[tools]]\nnumber = 2\nkind = \"endmill\"\ndiameter = 8\nflute_length = 20\n";
+    let program = "G21 G90\nM06 T1\nM03 S12000\nG00 X30 Y30 Z5\nG00 Z0\nF300\nCirclePocket 10.2 12 3\n\
+                   M06 T2\nG00 X30 Y30 Z0\nF200\nThreadMill 12 1.75 10 \"inside\" 2\nG00 Z5\nM05\nM30\n";
+    let (lines, diagnostics) = run("wizards", &Config::from_toml(config).unwrap(), program);
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let threading: Vec<&String> = lines.iter().skip_while(|l| !l.contains("T2")).collect();
+    let word = |line: &str, letter: char| {
+        line.split_whitespace().find(|w| w.starts_with(letter)).and_then(|w| w[1..].parse::<f64>().ok())
+    };
+    // The helices: counter-clockwise full turns with Z, each a pitch above the one before.
+    let helices: Vec<(f64, f64)> = threading
+        .iter()
+        .filter(|l| l.starts_with("G03") && word(l, 'Z').is_some())
+        .map(|l| (word(l, 'I').unwrap().abs(), word(l, 'Z').unwrap()))
+        .collect();
+    assert_eq!(helices.len(), 2 * 6, "{helices:?}");
+    for pass in helices.chunks(6) {
+        let mut below = -10.0;
+        for (_, z) in pass {
+            assert!((z - below - 1.75).abs() < 1e-3, "{pass:?}");
+            below = *z;
+        }
+        assert!(pass[5].1 >= 0.0, "the thread stops short of the top: {pass:?}");
+    }
+    // The last pass's radius puts the cutter's edge on the major diameter: 6 - 4 = 2;
+    // the first is a half of the thread depth (5/8 of 0.866 x 1.75 = 0.947) short of it.
+    let (first, last) = (helices[0].0, helices[6].0);
+    assert!((last - 2.0).abs() < 1e-3 && (first - (2.0 - 0.947 / 2.0)).abs() < 1e-3, "{first} {last}");
+    let (status, report) = denied_check(program, config);
+    assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])));
+    let cut = &report["summary"]["cut_box"];
+    let near = |value: &serde_json::Value, expected: f64| (value.as_f64().unwrap() - expected).abs() < 0.1;
+    assert!(near(&cut["min"][0], 24.0) && near(&cut["max"][0], 36.0), "the major diameter: {cut}");
+    // A cutter that cannot fit the bore is an error at the call.
+    let (_, diagnostics) = run(
+        "wizards",
+        &Config::from_toml(config).unwrap(),
+        "G21 G90\nM06 T2\nG00 X0 Y0 Z0\nF100\nThreadMill 6 1 5\nM30\n",
+    );
+    assert!(diagnostics.len() == 1 && diagnostics[0].contains("too big for an M6 x 1 thread"), "{diagnostics:?}");
+}
+
+#[test]
 fn the_example_pocket_passes_the_check_with_warnings_denied() {
     // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
