@@ -407,6 +407,22 @@ fn thread_mill_climbs_one_pitch_a_turn_to_the_major_diameter() {
     let cut = &report["summary"]["cut_box"];
     let near = |value: &serde_json::Value, expected: f64| (value.as_f64().unwrap() - expected).abs() < 0.1;
     assert!(near(&cut["min"][0], 24.0) && near(&cut["max"][0], 36.0), "the major diameter: {cut}");
+    // Outside, an M20 x 2 bolt: clockwise turns, the edge on the minor diameter,
+    // 17/24 of 0.866 x 2 = 1.227 in from the major: 10 - 1.227 + 4 = 12.773.
+    let (lines, diagnostics) = run(
+        "wizards",
+        &Config::from_toml(config).unwrap(),
+        "G21 G90\nM06 T2\nG00 X0 Y0 Z0\nF100\nThreadMill 20 2 8 \"outside\"\nM30\n",
+    );
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let helices: Vec<(f64, f64)> = lines
+        .iter()
+        .filter(|l| l.starts_with("G02") && word(l, 'Z').is_some())
+        .map(|l| (word(l, 'I').unwrap().abs(), word(l, 'Z').unwrap()))
+        .collect();
+    let zs: Vec<f64> = helices.iter().map(|h| h.1).collect();
+    assert_eq!(zs, [-6.0, -4.0, -2.0, 0.0], "{helices:?}");
+    assert!(helices.iter().all(|h| (h.0 - 12.773).abs() < 1e-3), "{helices:?}");
     // A cutter that cannot fit the bore is an error at the call.
     let (_, diagnostics) = run(
         "wizards",
