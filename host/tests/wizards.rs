@@ -433,6 +433,54 @@ fn thread_mill_climbs_one_pitch_a_turn_to_the_major_diameter() {
 }
 
 #[test]
+fn engrave_cuts_its_strokes_inside_the_text_box_at_its_depth() {
+    let tools = "[[tools]]\nnumber = 1\nkind = \"ballmill\"\ndiameter = 1\n";
+    let program = |call: &str| format!("G21 G90\nM06 T1\nM03 S18000\nG00 X20 Y10 Z0\nF400\n{call}\nG00 Z5\nM05\nM30\n");
+    let feeds = |call: &str| {
+        let (lines, diagnostics) = run("wizards", &mm(tools), &program(call));
+        assert!(diagnostics.is_empty(), "{call}: {diagnostics:?}");
+        moves(&lines[lines.iter().position(|l| l.contains("Engrave")).unwrap_or(0)..])
+            .into_iter()
+            .filter(|m| m.0 == 1)
+            .collect::<Vec<_>>()
+    };
+    // An L 10 high: down its stem and along its foot, 4/6 of the height wide.
+    let l: Vec<[f64; 3]> = feeds("Engrave \"L\" 10 0.3").iter().map(|m| m.2).collect();
+    let expected = [[20.0, 20.0, -0.3], [20.0, 10.0, -0.3], [20.0 + 40.0 / 6.0, 10.0, -0.3]];
+    assert_eq!(l.len(), 3, "{l:?}");
+    for (got, want) in l.iter().zip(expected) {
+        assert!((0..3).all(|k| (got[k] - want[k]).abs() < 1e-3), "{l:?}");
+    }
+    // Six characters advance 10 each (4/6 of 10 wide, a third of 10 apart): 56.667 wide.
+    let width = 60.0 - 10.0 / 3.0;
+    for (call, left) in
+        [("Engrave \"GER 42\" 10 0.3", 20.0), ("Engrave \"GER 42\" 10 0.3 \"centre\"", 20.0 - width / 2.0)]
+    {
+        let cuts = feeds(call);
+        assert!(cuts.len() > 20, "{call}");
+        for (_, _, b) in &cuts {
+            let eps = 1e-3; // the output's rounding
+            assert!((b[2] + 0.3).abs() < eps, "{call}: a feed to {b:?}, not at the depth");
+            assert!(
+                b[0] >= left - eps && b[0] <= left + width + eps && b[1] >= 10.0 - eps && b[1] <= 20.0 + eps,
+                "{call}: {b:?}"
+            );
+        }
+        let xs: Vec<f64> = cuts.iter().map(|m| m.2[0]).collect();
+        let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(*x), hi.max(*x)));
+        assert!((lo - left).abs() < 1e-3 && (hi - (left + width)).abs() < 1e-3, "{call}: {lo} to {hi}");
+    }
+    let (status, report) = denied_check(&program("Engrave \"GER 42\" 10 0.3"), &format!("units = \"mm\"\n{tools}"));
+    assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])));
+    let cut = &report["summary"]["cut_box"];
+    assert!((cut["min"][2].as_f64().unwrap() + 0.3).abs() < 0.05, "{cut}");
+    // Every glyph of the font cuts; one it lacks is an error at the call that names it.
+    assert!(feeds("Engrave \"ABCDEFGHIJKLMNOPQRSTUVWXYZ 0123456789 -+.,:/# abc\" 5").len() > 100);
+    let (_, diagnostics) = run("wizards", &mm(tools), &program("Engrave \"Café\" 5"));
+    assert!(diagnostics.len() == 1 && diagnostics[0].contains("the font has no `\\u{e9}`"), "{diagnostics:?}");
+}
+
+#[test]
 fn the_example_pocket_passes_the_check_with_warnings_denied() {
     // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
