@@ -8,6 +8,7 @@
 use std::io::BufRead;
 
 use crate::diag::{Diagnostic, Span};
+use crate::macros::expr::{self, Expr, Param, Reader};
 use crate::statement::Dialect;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -24,7 +25,18 @@ pub enum TokenKind {
     /// A wizard call's "double-quoted" argument, without the quotes.
     Str(String),
     Comment(String),
-    /// `;` or the end of a line.
+    /// The lenient dialect's word whose value is an expression (`X[#1 + 2]`,
+    /// `F#<feed>`): the interpreter stage makes it a `Word`.
+    Expression {
+        letter: char,
+        value: Box<Expr>,
+    },
+    /// The lenient dialect's `#1 = expr`: the interpreter stage carries it out.
+    Assign {
+        target: Box<Param>,
+        value: Box<Expr>,
+    },
+    /// `;` or the end of a line (a line's end has no length).
     End,
     /// `/` at the start of a line: block delete.
     BlockDelete,
@@ -279,7 +291,10 @@ impl<R: BufRead> Lexer<R> {
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
-                    if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
+                    if letters >= 2 && self.lenient && is_function_value(&text[pos + 1..]) {
+                        let letter = bytes[pos].to_ascii_uppercase() as char;
+                        pos = self.expression_word(text, pos, letter);
+                    } else if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
                     } else if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
@@ -290,6 +305,7 @@ impl<R: BufRead> Lexer<R> {
                         pos = self.word(text, pos, first_on_line);
                     }
                 }
+                b'#' if self.lenient => pos = self.assignment(text, pos),
                 b'#' => pos = self.refuse_rest_of_line(text, pos, Parameters),
                 b'[' => pos = self.refuse_rest_of_line(text, pos, Expressions),
                 b'/' if first_on_line => {
@@ -355,11 +371,11 @@ impl<R: BufRead> Lexer<R> {
         let (message, help) = match what {
             Parameters => (
                 "parameters (`#1`, `#<name>`) are not supported: ger has no variables",
-                "write the numbers out, or have a wizard compute them",
+                "the lenient dialect (--lenient) reads parameters and expressions as LinuxCNC does",
             ),
             Expressions => (
                 "expressions in `[ ]` are not supported: ger has no variables",
-                "write the numbers out, or have a wizard compute them",
+                "the lenient dialect (--lenient) reads parameters and expressions as LinuxCNC does",
             ),
             ControlFlow => (
                 "program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
@@ -432,8 +448,13 @@ impl<R: BufRead> Lexer<R> {
     /// number meant (`X -1.5`, `Y-`), so one slip gives one error.
     fn word_without_number(&mut self, text: &str, start: usize, letter: char) -> usize {
         let rest = &text[start + 1..];
+        let value = rest.trim_start();
+        let signed = value.strip_prefix(['-', '+']).unwrap_or(value).trim_start();
+        if self.lenient && (signed.starts_with(['[', '#']) || is_function_value(signed)) {
+            return self.expression_word(text, start, letter);
+        }
         // `R[...]` and `X#1` are refused as expressions and parameters, once.
-        if rest.trim_start().starts_with(['[', '#']) {
+        if value.starts_with(['[', '#']) {
             return start + 1 + (rest.len() - rest.trim_start().len());
         }
         if self.lenient {
@@ -452,6 +473,52 @@ impl<R: BufRead> Lexer<R> {
             .with_help(format!("write it as one word, e.g. {letter}1.5 (no space between letter and number)"));
         self.push_diag(diagnostic);
         start + len
+    }
+
+    /// A word whose value is an expression: `X[#1 + 2]`, `F#<feed>`, `Z-#3`.
+    fn expression_word(&mut self, text: &str, start: usize, letter: char) -> usize {
+        let mut reader = Reader::new(text, start + 1, self.line_no);
+        match reader.value() {
+            Ok(value) => {
+                let kind = TokenKind::Expression { letter, value: Box::new(value) };
+                self.push_token(kind, start, reader.pos - start);
+                reader.pos
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
+    /// `#1 = expr`, `#<name> = expr`, `#[#1 + 1] = expr`. The value may be
+    /// written without brackets (`#1 = #2 + 1`), as Fanuc allows.
+    fn assignment(&mut self, text: &str, start: usize) -> usize {
+        let mut reader = Reader::new(text, start, self.line_no);
+        let parsed = reader.param().and_then(|target| {
+            let at = reader.pos;
+            match text[at..].trim_start().strip_prefix('=') {
+                Some(after) => reader.pos = text.len() - after.len(),
+                None => {
+                    let message = "a parameter here is set: write `#1 = value`";
+                    let help = "a word takes a parameter as its value: X#1";
+                    return Err(Diagnostic::error(self.span(start, at - start), message).with_help(help));
+                }
+            }
+            Ok((target, reader.infix()?))
+        });
+        match parsed {
+            Ok((target, value)) => {
+                let kind = TokenKind::Assign { target: Box::new(target), value: Box::new(value) };
+                self.push_token(kind, start, reader.pos - start);
+                reader.pos
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
+    /// A malformed expression: its error, and the rest of the line is
+    /// skipped (up to a comment), since its words would be read wrongly.
+    fn refuse_expression(&mut self, text: &str, start: usize, diagnostic: Diagnostic) -> usize {
+        self.push_diag(diagnostic);
+        text[start..].find('(').map_or(text.len(), |i| start + i)
     }
 
     fn wizard_number(&mut self, text: &str, start: usize) -> usize {
@@ -521,6 +588,12 @@ fn is_control_flow(name: &str) -> bool {
     ];
     let word = name.trim_end_matches(|c: char| c.is_ascii_digit()).to_ascii_uppercase();
     KEYWORDS.contains(&word.as_str())
+}
+
+/// Whether `rest` starts with a function's name and `[`: `SIN[30]`.
+fn is_function_value(rest: &str) -> bool {
+    let letters = rest.bytes().take_while(u8::is_ascii_alphabetic).count();
+    letters >= 2 && expr::is_function(&rest[..letters]) && rest[letters..].trim_start().starts_with('[')
 }
 
 /// Whether `rest` reads as G-code: words (`X1.5`, `G01`), comments, or nothing.
@@ -599,6 +672,8 @@ mod tests {
                         TokenKind::Comment(v) => format!("comment {v:?}"),
                         TokenKind::End => "end".to_string(),
                         TokenKind::BlockDelete => "/".to_string(),
+                        TokenKind::Expression { letter, value } => format!("{letter}{value:?}"),
+                        TokenKind::Assign { target, value } => format!("{target:?} = {value:?}"),
                     };
                     format!("{}:{}+{} {kind}", s.line, s.col, s.len)
                 }
