@@ -8,6 +8,7 @@
 use std::io::BufRead;
 
 use crate::diag::{Diagnostic, Span};
+use crate::macros::control::{self, Control};
 use crate::macros::expr::{self, Expr, Param, Reader};
 use crate::statement::Dialect;
 
@@ -36,6 +37,9 @@ pub enum TokenKind {
         target: Box<Param>,
         value: Box<Expr>,
     },
+    /// The lenient dialect's O-word control line (`o100 while [#1 LT 3]`):
+    /// the interpreter stage runs it.
+    Control(Box<Control>),
     /// `;` or the end of a line (a line's end has no length).
     End,
     /// `/` at the start of a line: block delete.
@@ -48,6 +52,7 @@ pub struct Token {
     pub span: Span,
 }
 
+#[derive(Clone)]
 pub enum Lexed {
     Token(Token),
     Diagnostic(Diagnostic),
@@ -288,6 +293,7 @@ impl<R: BufRead> Lexer<R> {
                 }
                 b'"' if in_wizard_args => pos = self.string(text, pos),
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
+                b'o' | b'O' if self.lenient && control::head(&text[pos..]).is_some() => pos = self.control(text, pos),
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
@@ -514,6 +520,20 @@ impl<R: BufRead> Lexer<R> {
         }
     }
 
+    /// An O-word control line: the rest of the line is its arguments.
+    fn control(&mut self, text: &str, start: usize) -> usize {
+        let Some((label, keyword, after)) = control::head(&text[start..]) else { return start + 1 };
+        match control::arguments(text, start + after, self.line_no, keyword) {
+            Ok((args, end)) => {
+                let span = self.span(start, end - start);
+                let kind = TokenKind::Control(Box::new(Control { label, keyword, args, span }));
+                self.push_token(kind, start, end - start);
+                end
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
     /// A malformed expression: its error, and the rest of the line is
     /// skipped (up to a comment), since its words would be read wrongly.
     fn refuse_expression(&mut self, text: &str, start: usize, diagnostic: Diagnostic) -> usize {
@@ -674,6 +694,7 @@ mod tests {
                         TokenKind::BlockDelete => "/".to_string(),
                         TokenKind::Expression { letter, value } => format!("{letter}{value:?}"),
                         TokenKind::Assign { target, value } => format!("{target:?} = {value:?}"),
+                        TokenKind::Control(control) => format!("{control:?}"),
                     };
                     format!("{}:{}+{} {kind}", s.line, s.col, s.len)
                 }

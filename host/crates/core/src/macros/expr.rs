@@ -227,7 +227,7 @@ impl<'a> Reader<'a> {
         Ok(Param::Numbered(self.value()?))
     }
 
-    fn bracketed(&mut self) -> Parsed<Expr> {
+    pub fn bracketed(&mut self) -> Parsed<Expr> {
         self.expect(b'[', "")?;
         let expr = self.infix()?;
         self.expect(b']', "to close the `[`")?;

@@ -1,5 +1,5 @@
-//! The interpreter stage of the lenient dialect: parameters and
-//! expressions, between the lexer and the parser.
+//! The interpreter stage of the lenient dialect: parameters, expressions
+//! and LinuxCNC's O-word control flow, between the lexer and the parser.
 //!
 //! The lexer reads `X[#1 + 2]` as an expression word and `#1 = 5` as an
 //! assignment; this stage evaluates them against the parameters set so far
@@ -7,14 +7,20 @@
 //! variables. As in LinuxCNC, every read on a line happens before the line's
 //! assignments take effect: `#1 = 2 X#1` moves to the old `#1`. An
 //! evaluation error drops the line it is on (its assignments too), so one
-//! mistake gives one error.
+//! mistake gives one error. O-word lines (`control.rs`) shape the lines
+//! into blocks, read whole before they run; subroutine calls, loops and
+//! branches run them from memory, a line at a time.
 
+pub mod control;
 pub mod expr;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
+use std::rc::Rc;
+use std::sync::Arc;
 
-use crate::diag::{Diagnostic, Span};
+use crate::diag::{Diagnostic, Origin, Span};
 use crate::lex::{Lexed, Token, TokenKind, MAX_NUMBER};
+use control::{Control, Keyword};
 use expr::{Expr, Param, Parameters};
 
 /// Numbered parameters from here on are LinuxCNC's system parameters
@@ -22,22 +28,74 @@ use expr::{Expr, Param, Parameters};
 /// compute them, so a program that reads or sets one is refused there.
 const FIRST_SYSTEM_PARAMETER: u32 = 5000;
 
-/// The parameters a program has set.
+/// `#1` to `#30` belong to a call level, as in LinuxCNC.
+const LOCALS: usize = 30;
+
+/// `[machine] max_iterations`' default: how many times one loop may run.
+pub const MAX_ITERATIONS: u64 = 1_000_000;
+
+/// How deep subroutine calls may nest: a recursion this deep is taken as
+/// one that never ends.
+const MAX_CALL_DEPTH: usize = 100;
+
+/// The parameters of one call level: `#1`-`#30` and the names without `_`.
 #[derive(Default)]
+struct Locals {
+    numbered: [f64; LOCALS],
+    named: HashMap<String, f64>,
+}
+
+/// The parameters a program has set.
 pub struct Store {
     numbered: HashMap<u32, f64>,
     named: HashMap<String, f64>,
+    /// The call levels, the main program's first.
+    levels: Vec<Locals>,
+}
+
+impl Default for Store {
+    fn default() -> Store {
+        Store { numbered: HashMap::new(), named: HashMap::new(), levels: vec![Locals::default()] }
+    }
+}
+
+impl Store {
+    fn level(&mut self) -> &mut Locals {
+        self.levels.last_mut().expect("the main program's level is never left")
+    }
+
+    fn set(&mut self, target: Target, value: f64) {
+        match target {
+            Target::Numbered(number) if number as usize <= LOCALS => self.level().numbered[number as usize - 1] = value,
+            Target::Numbered(number) => {
+                self.numbered.insert(number, value);
+            }
+            Target::Named(name) if name.starts_with('_') => {
+                self.named.insert(name, value);
+            }
+            Target::Named(name) => {
+                self.level().named.insert(name, value);
+            }
+        }
+    }
 }
 
 impl Parameters for Store {
     fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic> {
         system_parameter(number, at)?;
+        if number as usize <= LOCALS {
+            return Ok(self.levels.last().map_or(0.0, |level| level.numbered[number as usize - 1]));
+        }
         // An unset numbered parameter reads as 0, as in LinuxCNC.
         Ok(self.numbered.get(&number).copied().unwrap_or(0.0))
     }
 
     fn named(&self, name: &str) -> Option<f64> {
-        self.named.get(name).copied()
+        if name.starts_with('_') {
+            self.named.get(name).copied()
+        } else {
+            self.levels.last()?.named.get(name).copied()
+        }
     }
 }
 
@@ -55,31 +113,116 @@ enum Target {
     Named(String),
 }
 
-/// Runs over the lexer's tokens a line at a time, turning expression words
-/// into words and carrying out assignments at each line's end. A line is
-/// held until it ends, so a line with an error gives the parser nothing of it.
+/// A line as the lexer gave it, kept to be run again when it is in a loop
+/// or a subroutine: its tokens, the lexer's diagnostics, and its end.
+#[derive(Clone, Default)]
+struct Line {
+    items: Vec<Lexed>,
+    end: Option<Token>,
+}
+
+impl Line {
+    /// The line's O-word control, if it is a control line.
+    fn control(&self) -> Option<&Control> {
+        self.items.iter().find_map(|item| match item {
+            Lexed::Token(Token { kind: TokenKind::Control(control), .. }) => Some(control.as_ref()),
+            _ => None,
+        })
+    }
+}
+
+type Body = Rc<[Node]>;
+
+/// A program's structure, as far as a block that is running needs it.
+enum Node {
+    Line(Line),
+    /// `call`, `return`, `break`, `continue`.
+    Simple(Control),
+    /// `if`, then any `elseif`s and an `else`, each with its body.
+    If(Vec<(Control, Body)>),
+    Loop(Rc<Loop>),
+    Sub(Rc<Sub>),
+}
+
+struct Loop {
+    head: Control,
+    /// A do-while loop's condition, from its closing `while`.
+    until: Option<Control>,
+    body: Body,
+}
+
+struct Sub {
+    head: Control,
+    body: Body,
+}
+
+/// A block being read: its head, the nodes so far, and for an `if` the
+/// branches before the current one.
+struct Open {
+    head: Control,
+    nodes: Vec<Node>,
+    branches: Vec<(Control, Body)>,
+}
+
+/// A body being run.
+struct Frame {
+    body: Body,
+    next: usize,
+    kind: FrameKind,
+}
+
+enum FrameKind {
+    Branch,
+    Loop { block: Rc<Loop>, iterations: u64, remaining: u64 },
+    Call { origin: Arc<Origin> },
+}
+
+/// Runs over the lexer's tokens a line at a time: turns expression words
+/// into words, carries out assignments at each line's end, and runs the
+/// O-word control lines. A block (`sub`, `if`, a loop) is read whole before
+/// it runs and kept while it does; everything else streams. A line with an
+/// error gives the parser nothing of it but its diagnostics.
 pub struct Interpreter<L> {
     tokens: L,
     store: Store,
-    /// The current line's assignments, made at its end.
-    pending: Vec<(Target, f64)>,
-    /// The current line: its tokens and the lexer's diagnostics.
-    line: Vec<Lexed>,
-    /// The current line's first error: the line is dropped.
-    error: Option<Diagnostic>,
-    out: std::collections::VecDeque<Lexed>,
+    /// The line being read.
+    line: Line,
+    /// The blocks being read, outermost first.
+    open: Vec<Open>,
+    /// The bodies being run, outermost first.
+    frames: Vec<Frame>,
+    subs: HashMap<String, Rc<Sub>>,
+    max_iterations: u64,
+    out: VecDeque<Lexed>,
+    done: bool,
 }
 
 impl<L: Iterator<Item = Lexed>> Interpreter<L> {
-    pub fn new(tokens: L) -> Interpreter<L> {
+    pub fn new(tokens: L, max_iterations: u64) -> Interpreter<L> {
         Interpreter {
             tokens,
             store: Store::default(),
-            pending: Vec::new(),
-            line: Vec::new(),
-            error: None,
-            out: Default::default(),
+            line: Line::default(),
+            open: Vec::new(),
+            frames: Vec::new(),
+            subs: HashMap::new(),
+            max_iterations,
+            out: VecDeque::new(),
+            done: false,
         }
+    }
+
+    /// The call the running line is in, for its diagnostics.
+    fn origin(&self) -> Option<Arc<Origin>> {
+        self.frames.iter().rev().find_map(|frame| match &frame.kind {
+            FrameKind::Call { origin } => Some(origin.clone()),
+            _ => None,
+        })
+    }
+
+    fn error(&mut self, diagnostic: Diagnostic) {
+        let diagnostic = diagnostic.with_origin(self.origin());
+        self.out.push_back(Lexed::Diagnostic(diagnostic));
     }
 
     fn evaluate(&self, expr: &Expr, span: Span) -> Result<f64, Diagnostic> {
@@ -103,50 +246,315 @@ impl<L: Iterator<Item = Lexed>> Interpreter<L> {
         Ok((target, self.evaluate(value, span)?))
     }
 
-    /// Hands out the line read, and makes its assignments; `end` is the
-    /// line's end, which a comment never closed does not have.
-    fn end_of_line(&mut self, end: Option<Token>) {
-        let line = std::mem::take(&mut self.line);
-        match self.error.take() {
-            Some(error) => {
-                self.pending.clear();
-                self.out.extend(line.into_iter().filter(|lexed| matches!(lexed, Lexed::Diagnostic(_))));
-                self.out.push_back(Lexed::Diagnostic(error));
+    /// Runs a plain line: its words' values, then its assignments.
+    fn run_line(&mut self, line: &Line) {
+        let mut tokens = Vec::with_capacity(line.items.len());
+        let mut assignments = Vec::new();
+        let mut failed = None;
+        for item in &line.items {
+            let Lexed::Token(token) = item else {
+                self.out.push_back(item.clone());
+                continue;
+            };
+            if failed.is_some() {
+                continue;
             }
+            let span = token.span;
+            match &token.kind {
+                TokenKind::Expression { letter, value } => match self.evaluate(value, span) {
+                    Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span }),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
+                TokenKind::Assign { target, value } => match self.assignment(target, value, span) {
+                    Ok(assignment) => assignments.push(assignment),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
+                _ => tokens.push(token.clone()),
+            }
+        }
+        match failed {
+            Some(diagnostic) => self.error(diagnostic),
             None => {
-                self.out.extend(line);
-                for (target, value) in self.pending.drain(..) {
-                    match target {
-                        Target::Numbered(number) => self.store.numbered.insert(number, value),
-                        Target::Named(name) => self.store.named.insert(name, value),
-                    };
+                self.out.extend(tokens.into_iter().map(Lexed::Token));
+                for (target, value) in assignments {
+                    self.store.set(target, value);
                 }
             }
         }
-        self.out.extend(end.map(Lexed::Token));
+        self.out.extend(line.end.clone().map(Lexed::Token));
     }
 
-    fn token(&mut self, token: Token) {
-        let span = token.span;
-        if self.error.is_some() && token.kind != TokenKind::End {
-            return;
-        }
-        let result = match token.kind {
-            TokenKind::End if span.len == 0 => return self.end_of_line(Some(token)),
-            TokenKind::Expression { letter, value } => {
-                self.evaluate(&value, span).map(|value| Some(Token { kind: TokenKind::Word { letter, value }, span }))
-            }
-            TokenKind::Assign { target, value } => self.assignment(&target, &value, span).map(|assignment| {
-                self.pending.push(assignment);
-                None
-            }),
-            kind => Ok(Some(Token { kind, span })),
+    /// A line read from the program: run it, or keep it in the block being read.
+    fn read(&mut self, line: Line) {
+        let Some(control) = line.control().cloned() else {
+            return self.add(Node::Line(line));
         };
-        match result {
-            Ok(token) => self.line.extend(token.map(Lexed::Token)),
-            Err(diagnostic) => self.error = Some(diagnostic),
+        // The line's diagnostics and end still go out, in their place.
+        let rest = Line {
+            items: line.items.into_iter().filter(|i| matches!(i, Lexed::Diagnostic(_))).collect(),
+            end: line.end,
+        };
+        if let Err(diagnostic) = self.structure(control) {
+            self.error(diagnostic);
+        }
+        self.out.extend(rest.items);
+        self.out.extend(rest.end.map(Lexed::Token));
+    }
+
+    /// Opens, continues or closes a block at a control line.
+    fn structure(&mut self, control: Control) -> Result<(), Diagnostic> {
+        let closes = |open: &Open, keywords: &[Keyword]| {
+            open.head.label == control.label && keywords.contains(&open.head.keyword)
+        };
+        match control.keyword {
+            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat => self.open_block(control),
+            Keyword::While if !self.open.last().is_some_and(|open| closes(open, &[Keyword::Do])) => {
+                self.open_block(control)
+            }
+            Keyword::Call | Keyword::Return | Keyword::Break | Keyword::Continue => self.add(Node::Simple(control)),
+            Keyword::ElseIf | Keyword::Else => {
+                let open = self.open.last_mut().filter(|open| closes(open, &[Keyword::If, Keyword::ElseIf]));
+                let Some(open) = open else { return Err(unmatched(&control)) };
+                let body: Body = std::mem::take(&mut open.nodes).into();
+                let head = std::mem::replace(&mut open.head, control);
+                open.branches.push((head, body));
+            }
+            _ => {
+                let wanted: &[Keyword] = match control.keyword {
+                    Keyword::EndSub => &[Keyword::Sub],
+                    Keyword::EndIf => &[Keyword::If, Keyword::ElseIf, Keyword::Else],
+                    Keyword::EndWhile => &[Keyword::While],
+                    Keyword::EndRepeat => &[Keyword::Repeat],
+                    _ => &[Keyword::Do],
+                };
+                if !self.open.last().is_some_and(|open| closes(open, wanted)) {
+                    return Err(unmatched(&control));
+                }
+                let mut open = self.open.pop().expect("checked just above");
+                if control.keyword == Keyword::EndSub && !control.args.is_empty() {
+                    open.nodes.push(Node::Simple(Control { keyword: Keyword::Return, ..control.clone() }));
+                }
+                let body: Body = open.nodes.into();
+                let node = match control.keyword {
+                    Keyword::EndSub => Node::Sub(Rc::new(Sub { head: open.head, body })),
+                    Keyword::EndIf => {
+                        let mut branches = open.branches;
+                        branches.push((open.head, body));
+                        Node::If(branches)
+                    }
+                    Keyword::While => Node::Loop(Rc::new(Loop { head: open.head, until: Some(control), body })),
+                    _ => Node::Loop(Rc::new(Loop { head: open.head, until: None, body })),
+                };
+                self.add(node);
+            }
+        }
+        Ok(())
+    }
+
+    fn open_block(&mut self, head: Control) {
+        self.open.push(Open { head, nodes: Vec::new(), branches: Vec::new() });
+    }
+
+    /// A node read: into the block being read, or run now.
+    fn add(&mut self, node: Node) {
+        match self.open.last_mut() {
+            Some(open) => open.nodes.push(node),
+            None => {
+                let body: Body = Rc::new([node]);
+                self.frames.push(Frame { body, next: 0, kind: FrameKind::Branch });
+            }
         }
     }
+
+    /// Runs the next node of the innermost body; false when nothing runs.
+    fn step(&mut self) -> bool {
+        let Some(frame) = self.frames.last_mut() else { return false };
+        if frame.next == frame.body.len() {
+            self.end_of_body();
+            return true;
+        }
+        let body = frame.body.clone();
+        let node = &body[frame.next];
+        frame.next += 1;
+        match node {
+            Node::Line(line) => self.run_line(line),
+            Node::Sub(sub) => {
+                self.subs.insert(sub.head.label.clone(), sub.clone());
+            }
+            Node::If(branches) => {
+                for (head, body) in branches {
+                    match head.args.first().map(|condition| self.evaluate(condition, head.span)) {
+                        Some(Err(diagnostic)) => return self.fail(diagnostic),
+                        Some(Ok(0.0)) => continue,
+                        _ => {}
+                    }
+                    self.frames.push(Frame { body: body.clone(), next: 0, kind: FrameKind::Branch });
+                    break;
+                }
+            }
+            Node::Loop(block) => self.enter(block.clone()),
+            Node::Simple(control) => self.simple(control),
+        }
+        true
+    }
+
+    /// Reports an error of the running body.
+    fn fail(&mut self, diagnostic: Diagnostic) -> bool {
+        self.error(diagnostic);
+        true
+    }
+
+    fn enter(&mut self, block: Rc<Loop>) {
+        let head = &block.head;
+        let remaining = match head.keyword {
+            Keyword::While => match self.evaluate(&head.args[0], head.span) {
+                Ok(condition) if condition != 0.0 => 1,
+                Ok(_) => 0,
+                Err(diagnostic) => return self.error(diagnostic),
+            },
+            Keyword::Repeat => match self.evaluate(&head.args[0], head.span) {
+                Ok(count) => count.max(0.0).round() as u64,
+                Err(diagnostic) => return self.error(diagnostic),
+            },
+            _ => 1,
+        };
+        if remaining > 0 {
+            let body = block.body.clone();
+            self.frames.push(Frame { body, next: 0, kind: FrameKind::Loop { block, iterations: 0, remaining } });
+        }
+    }
+
+    /// The innermost body has run to its end.
+    fn end_of_body(&mut self) {
+        let frame = self.frames.last_mut().expect("a body is running");
+        match &mut frame.kind {
+            FrameKind::Branch => {
+                self.frames.pop();
+            }
+            FrameKind::Call { .. } => self.leave_call(),
+            FrameKind::Loop { block, iterations, remaining } => {
+                *iterations += 1;
+                let block = block.clone();
+                let again = match (&block.until, block.head.keyword) {
+                    (_, Keyword::Repeat) => {
+                        *remaining -= 1;
+                        Ok(*remaining > 0)
+                    }
+                    (Some(until), _) => self.evaluate(&until.args[0], until.span).map(|c| c != 0.0),
+                    (None, _) => self.evaluate(&block.head.args[0], block.head.span).map(|c| c != 0.0),
+                };
+                let frame = self.frames.last_mut().expect("a body is running");
+                let FrameKind::Loop { iterations, .. } = frame.kind else { unreachable!("matched above") };
+                match again {
+                    Ok(true) if iterations >= self.max_iterations => {
+                        self.frames.pop();
+                        let message = format!(
+                            "{} {} ran {iterations} times without ending: stopped",
+                            block.head.name(),
+                            block.head.keyword.name()
+                        );
+                        let help = "raise [machine] max_iterations in ger.toml if it is meant to run longer";
+                        self.error(Diagnostic::error(block.head.span, message).with_help(help));
+                    }
+                    Ok(true) => frame.next = 0,
+                    Ok(false) => {
+                        self.frames.pop();
+                    }
+                    Err(diagnostic) => {
+                        self.frames.pop();
+                        self.error(diagnostic);
+                    }
+                }
+            }
+        }
+    }
+
+    fn leave_call(&mut self) {
+        self.frames.pop();
+        self.store.levels.pop();
+    }
+
+    fn simple(&mut self, control: &Control) {
+        match control.keyword {
+            Keyword::Call => self.call(control),
+            Keyword::Return => {
+                if let Some(value) = control.args.first() {
+                    match self.evaluate(value, control.span) {
+                        Ok(value) => {
+                            self.store.named.insert("_value".to_string(), value);
+                        }
+                        Err(diagnostic) => self.error(diagnostic),
+                    }
+                }
+                if !self.frames.iter().any(|frame| matches!(frame.kind, FrameKind::Call { .. })) {
+                    let message = format!("{} return is not in a subroutine", control.name());
+                    return self.error(Diagnostic::error(control.span, message));
+                }
+                while let Some(frame) = self.frames.last() {
+                    if matches!(frame.kind, FrameKind::Call { .. }) {
+                        return self.leave_call();
+                    }
+                    self.frames.pop();
+                }
+            }
+            _ => {
+                // break and continue: the loop they name, inside this call.
+                let found = self.frames.iter().rev().position(|frame| match &frame.kind {
+                    FrameKind::Loop { block, .. } => block.head.label == control.label,
+                    FrameKind::Call { .. } => true,
+                    FrameKind::Branch => false,
+                });
+                let at = found.map(|from_top| self.frames.len() - 1 - from_top);
+                let Some(at) = at.filter(|&at| matches!(self.frames[at].kind, FrameKind::Loop { .. })) else {
+                    let message =
+                        format!("{} {} is not in a loop {}", control.name(), control.keyword.name(), control.name());
+                    return self.error(Diagnostic::error(control.span, message));
+                };
+                self.frames.truncate(at + 1);
+                let frame = self.frames.last_mut().expect("the loop is there");
+                if control.keyword == Keyword::Break {
+                    self.frames.pop();
+                } else {
+                    frame.next = frame.body.len();
+                }
+            }
+        }
+    }
+
+    fn call(&mut self, control: &Control) {
+        let Some(sub) = self.subs.get(&control.label).cloned() else {
+            let message = format!("{} is called before it is defined", control.name());
+            let help = "define the subroutine (o100 sub ... o100 endsub) above its first call";
+            return self.error(Diagnostic::error(control.span, message).with_help(help));
+        };
+        if self.store.levels.len() > MAX_CALL_DEPTH {
+            let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
+            return self.error(Diagnostic::error(control.span, message));
+        }
+        let mut locals = Locals::default();
+        for (slot, arg) in locals.numbered.iter_mut().zip(&control.args) {
+            match self.evaluate(arg, control.span) {
+                Ok(value) => *slot = value,
+                Err(diagnostic) => return self.error(diagnostic),
+            }
+        }
+        let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
+        self.store.levels.push(locals);
+        self.frames.push(Frame { body: sub.body.clone(), next: 0, kind: FrameKind::Call { origin } });
+    }
+
+    /// The end of the program: blocks never closed are errors at their head.
+    fn finish(&mut self) {
+        for open in std::mem::take(&mut self.open) {
+            let message = format!("{} {} is never closed", open.head.name(), open.head.keyword.name());
+            self.error(Diagnostic::error(open.head.span, message));
+        }
+    }
+}
+
+fn unmatched(control: &Control) -> Diagnostic {
+    let message = format!("{} {} has no block {} to belong to", control.name(), control.keyword.name(), control.name());
+    Diagnostic::error(control.span, message).with_help("an O-word block opens and closes with the same number")
 }
 
 impl<L: Iterator<Item = Lexed>> Iterator for Interpreter<L> {
@@ -157,11 +565,27 @@ impl<L: Iterator<Item = Lexed>> Iterator for Interpreter<L> {
             if let Some(lexed) = self.out.pop_front() {
                 return Some(lexed);
             }
+            if self.step() {
+                continue;
+            }
+            if self.done {
+                return None;
+            }
             match self.tokens.next() {
-                Some(Lexed::Token(token)) => self.token(token),
-                Some(diagnostic) => self.line.push(diagnostic),
-                None if self.line.is_empty() && self.error.is_none() => return None,
-                None => self.end_of_line(None),
+                Some(Lexed::Token(token)) if token.kind == TokenKind::End && token.span.len == 0 => {
+                    let mut line = std::mem::take(&mut self.line);
+                    line.end = Some(token);
+                    self.read(line);
+                }
+                Some(item) => self.line.items.push(item),
+                None => {
+                    self.done = true;
+                    let line = std::mem::take(&mut self.line);
+                    if !line.items.is_empty() {
+                        self.read(line);
+                    }
+                    self.finish();
+                }
             }
         }
     }
@@ -247,5 +671,72 @@ mod tests {
             panic!("the strict lexer read a parameter")
         };
         assert!(diagnostic.help.unwrap().contains("--lenient"));
+    }
+
+    #[test]
+    fn subroutines_take_arguments_in_their_own_locals() {
+        // As rs274 runs it: the call's #1..#3 are its arguments (unset ones 0),
+        // the caller's #1 comes back after it, #40 is global, and
+        // `return [value]` leaves the value in #<_value>.
+        let program =
+            "#1 = 7\no100 sub\nG01 X#1 Y#2 Z#3 F10\n#1 = 9 #40 = 1\no100 return [#1 * 2]\nG01 X99\no100 endsub\n\
+                       o100 call [3] [4]\nG01 X#1 Y#<_value> Z#40";
+        assert_eq!(flat(program), ["G01 X3.000 Y4.000 Z0.000 F10.000", "G01 X7.000 Y18.000 Z1.000"]);
+        // A named local of the caller is not seen in the call.
+        let got = flat("#<here> = 1\no<show> sub\nG01 X#<here> F10\no<show> endsub\no<show> call");
+        assert_eq!(got, ["4:6: error: the parameter #<here> is not set"]);
+        assert_eq!(
+            flat("o100 call\nG01 X1 F10"),
+            ["2:1: error: o100 is called before it is defined", "G01 X1.000 F10.000"]
+        );
+    }
+
+    #[test]
+    fn loops_run_their_bodies_and_stream() {
+        let whiles = "#1 = 0\no101 while [#1 LT 3]\nG01 X#1 F10\n#1 = [#1 + 1]\no101 endwhile";
+        assert_eq!(flat(whiles), ["G01 X0.000 F10.000", "G01 X1.000", "G01 X2.000"]);
+        // do-while runs once before its test; repeat its count.
+        let dos = "#1 = 5\no102 do\nG01 X#1 F10\n#1 = [#1 + 1]\no102 while [#1 LT 3]\no103 repeat [2]\nG01 Y1\nG01 Y0\no103 endrepeat";
+        assert_eq!(flat(dos), ["G01 X5.000 F10.000", "G01 Y1.000", "G01 Y0.000", "G01 Y1.000", "G01 Y0.000"]);
+        // break and continue name the loop they leave or go on with.
+        let flow = "#1 = 0\no1 while [1]\n#1 = [#1 + 1]\no2 if [#1 EQ 2]\no1 continue\no2 elseif [#1 GT 3]\no1 break\no2 else\nG01 X#1 F10\no2 endif\no1 endwhile";
+        assert_eq!(flat(flow), ["G01 X1.000 F10.000", "G01 X3.000"]);
+    }
+
+    #[test]
+    fn a_loop_that_does_not_end_is_stopped_at_its_head() {
+        let config = Config {
+            dialect: crate::config::DialectConfig { max_iterations: 5, ..Dialect::Lenient.into() },
+            units: Units::Mm,
+            ..Config::default()
+        };
+        let got = run_with("G21 G01 F10\no7 while [1]\nG01 X1\nG01 X0\no7 endwhile\nG01 Y1", &config, 4);
+        assert_eq!(got.iter().filter(|line| line.contains("X1.000")).count(), 5);
+        assert_eq!(got[got.len() - 2], "2:1: error: o7 while ran 5 times without ending: stopped");
+        assert_eq!(got[got.len() - 1], "G01 Y1.000");
+        // A recursion is stopped too, and an error inside a call says where it ran.
+        let got = flat("o8 sub\no8 call\no8 endsub\no8 call\nG01 X1 F10");
+        assert_eq!(got[0], "3:1: error: calls nest more than 100 deep: a recursion that does not end?");
+        let program = "o9 sub\nG01 X[1/#1] F10\no9 endsub\no9 call [0]";
+        let config = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let library = crate::passes::Library::scanning(Default::default);
+        let options = crate::passes::Options { config: &config, stage: 4, wizards: &mut crate::wizard::NoWizards };
+        let diagnostic = crate::passes::translate(program.as_bytes(), library, options)
+            .find_map(|event| match event {
+                crate::passes::Event::Diagnostic(diagnostic) => Some(diagnostic),
+                _ => None,
+            })
+            .unwrap();
+        assert_eq!(diagnostic.to_string(), "2:8: error: division by zero");
+        assert_eq!(diagnostic.call_chain(), ["in o9 called at line 4"]);
+    }
+
+    #[test]
+    fn blocks_must_close_with_their_own_number() {
+        assert_eq!(
+            flat("o1 if [1]\nG01 X1 F10\no2 endif"),
+            ["4:1: error: o2 endif has no block o2 to belong to", "2:1: error: o1 if is never closed"]
+        );
+        assert_eq!(flat("o1 while [1] [2]"), ["2:10: error: `while` takes one [condition]"]);
     }
 }
