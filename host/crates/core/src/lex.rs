@@ -26,20 +26,6 @@ pub enum TokenKind {
     /// A wizard call's "double-quoted" argument, without the quotes.
     Str(String),
     Comment(String),
-    /// The lenient dialect's word whose value is an expression (`X[#1 + 2]`,
-    /// `F#<feed>`): the interpreter stage makes it a `Word`.
-    Expression {
-        letter: char,
-        value: Box<Expr>,
-    },
-    /// The lenient dialect's `#1 = expr`: the interpreter stage carries it out.
-    Assign {
-        target: Box<Param>,
-        value: Box<Expr>,
-    },
-    /// The lenient dialect's O-word control line (`o100 while [#1 LT 3]`):
-    /// the interpreter stage runs it.
-    Control(Box<Control>),
     /// `;` or the end of a line (a line's end has no length).
     End,
     /// `/` at the start of a line: block delete.
@@ -56,6 +42,26 @@ pub struct Token {
 pub enum Lexed {
     Token(Token),
     Diagnostic(Diagnostic),
+}
+
+/// What the lexer makes: a token or a diagnostic, or, in the lenient
+/// dialect, a piece of macro programming for the interpreter stage
+/// ([`crate::macros`]), which [`Lexer::pieces`] hands out. Iterating the
+/// lexer itself passes over the macro pieces.
+#[derive(Clone)]
+pub enum Piece {
+    Lexed(Lexed),
+    Macro(Macro, Span),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Macro {
+    /// A word whose value is an expression: `X[#1 + 2]`, `F#<feed>`.
+    Expression { letter: char, value: Expr },
+    /// `#1 = expr`.
+    Assign { target: Param, value: Expr },
+    /// An O-word control line: `o100 while [#1 LT 3]`.
+    Control(Control),
 }
 
 /// Lexes a whole program held in memory; handy for tests and small inputs.
@@ -77,7 +83,7 @@ pub struct Lexer<R> {
     raw: Vec<u8>,
     line_no: u32,
     /// Tokens of the current line, handed out front to back.
-    pending: std::collections::VecDeque<Lexed>,
+    pending: std::collections::VecDeque<Piece>,
     /// Set while a comment is open across lines.
     open_comment: Option<OpenComment>,
     done: bool,
@@ -190,11 +196,11 @@ impl<R: BufRead> Lexer<R> {
 
     fn push_token(&mut self, kind: TokenKind, col: usize, len: usize) {
         let span = Span::new(self.line_no, col as u32 + 1, len as u32);
-        self.pending.push_back(Lexed::Token(Token { kind, span }));
+        self.pending.push_back(Piece::Lexed(Lexed::Token(Token { kind, span })));
     }
 
     fn push_diag(&mut self, diagnostic: Diagnostic) {
-        self.pending.push_back(Lexed::Diagnostic(diagnostic));
+        self.pending.push_back(Piece::Lexed(Lexed::Diagnostic(diagnostic)));
     }
 
     fn span(&self, col: usize, len: usize) -> Span {
@@ -226,8 +232,8 @@ impl<R: BufRead> Lexer<R> {
             comment.body.push('\n');
             match self.continue_comment(text, 0, &mut comment) {
                 Some(end) => {
-                    self.pending
-                        .push_back(Lexed::Token(Token { kind: TokenKind::Comment(comment.body), span: comment.start }));
+                    let token = Token { kind: TokenKind::Comment(comment.body), span: comment.start };
+                    self.pending.push_back(Piece::Lexed(Lexed::Token(token)));
                     pos = end;
                 }
                 None => {
@@ -486,8 +492,8 @@ impl<R: BufRead> Lexer<R> {
         let mut reader = Reader::new(text, start + 1, self.line_no);
         match reader.value() {
             Ok(value) => {
-                let kind = TokenKind::Expression { letter, value: Box::new(value) };
-                self.push_token(kind, start, reader.pos - start);
+                let span = self.span(start, reader.pos - start);
+                self.pending.push_back(Piece::Macro(Macro::Expression { letter, value }, span));
                 reader.pos
             }
             Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
@@ -512,8 +518,8 @@ impl<R: BufRead> Lexer<R> {
         });
         match parsed {
             Ok((target, value)) => {
-                let kind = TokenKind::Assign { target: Box::new(target), value: Box::new(value) };
-                self.push_token(kind, start, reader.pos - start);
+                let span = self.span(start, reader.pos - start);
+                self.pending.push_back(Piece::Macro(Macro::Assign { target, value }, span));
                 reader.pos
             }
             Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
@@ -526,8 +532,7 @@ impl<R: BufRead> Lexer<R> {
         match control::arguments(text, start + after, self.line_no, keyword) {
             Ok((args, end)) => {
                 let span = self.span(start, end - start);
-                let kind = TokenKind::Control(Box::new(Control { label, keyword, args, span }));
-                self.push_token(kind, start, end - start);
+                self.pending.push_back(Piece::Macro(Macro::Control(Control { label, keyword, args, span }), span));
                 end
             }
             Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
@@ -650,13 +655,16 @@ fn number_len(s: &str) -> usize {
     }
 }
 
-impl<R: BufRead> Iterator for Lexer<R> {
-    type Item = Lexed;
+impl<R: BufRead> Lexer<R> {
+    /// The lexer's pieces, macro programming included, for the interpreter stage.
+    pub fn pieces(self) -> Pieces<R> {
+        Pieces(self)
+    }
 
-    fn next(&mut self) -> Option<Lexed> {
+    fn next_piece(&mut self) -> Option<Piece> {
         loop {
-            if let Some(item) = self.pending.pop_front() {
-                return Some(item);
+            if let Some(piece) = self.pending.pop_front() {
+                return Some(piece);
             }
             if self.done {
                 return None;
@@ -670,6 +678,29 @@ impl<R: BufRead> Iterator for Lexer<R> {
                         .with_help("add `)` where the comment should end");
                     self.push_diag(diagnostic);
                 }
+            }
+        }
+    }
+}
+
+/// A lexer's pieces: see [`Piece`].
+pub struct Pieces<R>(Lexer<R>);
+
+impl<R: BufRead> Iterator for Pieces<R> {
+    type Item = Piece;
+
+    fn next(&mut self) -> Option<Piece> {
+        self.0.next_piece()
+    }
+}
+
+impl<R: BufRead> Iterator for Lexer<R> {
+    type Item = Lexed;
+
+    fn next(&mut self) -> Option<Lexed> {
+        loop {
+            if let Piece::Lexed(lexed) = self.next_piece()? {
+                return Some(lexed);
             }
         }
     }
@@ -692,9 +723,6 @@ mod tests {
                         TokenKind::Comment(v) => format!("comment {v:?}"),
                         TokenKind::End => "end".to_string(),
                         TokenKind::BlockDelete => "/".to_string(),
-                        TokenKind::Expression { letter, value } => format!("{letter}{value:?}"),
-                        TokenKind::Assign { target, value } => format!("{target:?} = {value:?}"),
-                        TokenKind::Control(control) => format!("{control:?}"),
                     };
                     format!("{}:{}+{} {kind}", s.line, s.col, s.len)
                 }

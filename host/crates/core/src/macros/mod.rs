@@ -19,7 +19,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::lex::{Lexed, Token, TokenKind, MAX_NUMBER};
+use crate::lex::{Lexed, Macro, Piece, Token, TokenKind, MAX_NUMBER};
 use control::{Control, Keyword};
 use expr::{Expr, Param, Parameters};
 
@@ -117,7 +117,7 @@ enum Target {
 /// or a subroutine: its tokens, the lexer's diagnostics, and its end.
 #[derive(Clone, Default)]
 struct Line {
-    items: Vec<Lexed>,
+    items: Vec<Piece>,
     end: Option<Token>,
 }
 
@@ -125,7 +125,7 @@ impl Line {
     /// The line's O-word control, if it is a control line.
     fn control(&self) -> Option<&Control> {
         self.items.iter().find_map(|item| match item {
-            Lexed::Token(Token { kind: TokenKind::Control(control), .. }) => Some(control.as_ref()),
+            Piece::Macro(Macro::Control(control), _) => Some(control),
             _ => None,
         })
     }
@@ -197,7 +197,7 @@ pub struct Interpreter<L> {
     done: bool,
 }
 
-impl<L: Iterator<Item = Lexed>> Interpreter<L> {
+impl<L: Iterator<Item = Piece>> Interpreter<L> {
     pub fn new(tokens: L, max_iterations: u64) -> Interpreter<L> {
         Interpreter {
             tokens,
@@ -252,24 +252,22 @@ impl<L: Iterator<Item = Lexed>> Interpreter<L> {
         let mut assignments = Vec::new();
         let mut failed = None;
         for item in &line.items {
-            let Lexed::Token(token) = item else {
-                self.out.push_back(item.clone());
-                continue;
-            };
-            if failed.is_some() {
-                continue;
-            }
-            let span = token.span;
-            match &token.kind {
-                TokenKind::Expression { letter, value } => match self.evaluate(value, span) {
-                    Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span }),
+            match item {
+                Piece::Lexed(Lexed::Diagnostic(diagnostic)) => {
+                    self.out.push_back(Lexed::Diagnostic(diagnostic.clone()))
+                }
+                _ if failed.is_some() => {}
+                Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
+                Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
+                    Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span: *span }),
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
-                TokenKind::Assign { target, value } => match self.assignment(target, value, span) {
+                Piece::Macro(Macro::Assign { target, value }, span) => match self.assignment(target, value, *span) {
                     Ok(assignment) => assignments.push(assignment),
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
-                _ => tokens.push(token.clone()),
+                // A plain line has no control piece: `read` takes those.
+                Piece::Macro(Macro::Control(_), _) => {}
             }
         }
         match failed {
@@ -290,15 +288,15 @@ impl<L: Iterator<Item = Lexed>> Interpreter<L> {
             return self.add(Node::Line(line));
         };
         // The line's diagnostics and end still go out, in their place.
-        let rest = Line {
-            items: line.items.into_iter().filter(|i| matches!(i, Lexed::Diagnostic(_))).collect(),
-            end: line.end,
-        };
         if let Err(diagnostic) = self.structure(control) {
             self.error(diagnostic);
         }
-        self.out.extend(rest.items);
-        self.out.extend(rest.end.map(Lexed::Token));
+        for item in line.items {
+            if let Piece::Lexed(diagnostic @ Lexed::Diagnostic(_)) = item {
+                self.out.push_back(diagnostic);
+            }
+        }
+        self.out.extend(line.end.map(Lexed::Token));
     }
 
     /// Opens, continues or closes a block at a control line.
@@ -557,7 +555,7 @@ fn unmatched(control: &Control) -> Diagnostic {
     Diagnostic::error(control.span, message).with_help("an O-word block opens and closes with the same number")
 }
 
-impl<L: Iterator<Item = Lexed>> Iterator for Interpreter<L> {
+impl<L: Iterator<Item = Piece>> Iterator for Interpreter<L> {
     type Item = Lexed;
 
     fn next(&mut self) -> Option<Lexed> {
@@ -572,7 +570,7 @@ impl<L: Iterator<Item = Lexed>> Iterator for Interpreter<L> {
                 return None;
             }
             match self.tokens.next() {
-                Some(Lexed::Token(token)) if token.kind == TokenKind::End && token.span.len == 0 => {
+                Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
                     let mut line = std::mem::take(&mut self.line);
                     line.end = Some(token);
                     self.read(line);

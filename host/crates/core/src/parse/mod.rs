@@ -144,13 +144,6 @@ impl<L> Parser<L> {
             TokenKind::Ident(name) => self.open(Head::Wizard { name, args: Vec::new() }, span),
             TokenKind::Number(n) => self.wizard_arg(WizardArg::Number(n), span),
             TokenKind::Str(s) => self.wizard_arg(WizardArg::Text(s), span),
-            // Only the interpreter stage (`passes::parse`) gives values to these.
-            TokenKind::Expression { .. } | TokenKind::Assign { .. } | TokenKind::Control(_) => {
-                self.out.push_back(Event::Diagnostic(Diagnostic::error(
-                    span,
-                    "parameters and expressions need the interpreter stage to be read",
-                )))
-            }
             TokenKind::Word { letter, value } => {
                 let value = Value { value, span };
                 if matches!(letter, 'G' | 'M' | 'O') {
