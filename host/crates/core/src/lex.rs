@@ -8,7 +8,7 @@
 use std::io::BufRead;
 
 use crate::diag::{Diagnostic, Span};
-use crate::macros::control::{self, Control};
+use crate::macros::control::{self, Control, Keyword};
 use crate::macros::expr::{self, Expr, Param, Reader};
 use crate::statement::Dialect;
 
@@ -60,8 +60,11 @@ pub enum Macro {
     Expression { letter: char, value: Expr },
     /// `#1 = expr`.
     Assign { target: Param, value: Expr },
-    /// An O-word control line: `o100 while [#1 LT 3]`.
+    /// An O-word control line: `o100 while [#1 LT 3]`; or Fanuc's
+    /// `WHILE [c] DO1` and `END1`.
     Control(Control),
+    /// Fanuc's `IF [c] THEN`: the rest of the line runs only if c holds.
+    Guard(Expr),
 }
 
 /// Lexes a whole program held in memory; handy for tests and small inputs.
@@ -306,6 +309,8 @@ impl<R: BufRead> Lexer<R> {
                     if letters >= 2 && self.lenient && is_function_value(&text[pos + 1..]) {
                         let letter = bytes[pos].to_ascii_uppercase() as char;
                         pos = self.expression_word(text, pos, letter);
+                    } else if letters >= 2 && self.lenient && self.macro_b(text, pos, name_len).is_some() {
+                        pos = self.macro_b(text, pos, name_len).unwrap_or(pos + name_len);
                     } else if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
                     } else if letters >= 2 {
@@ -532,10 +537,63 @@ impl<R: BufRead> Lexer<R> {
         match control::arguments(text, start + after, self.line_no, keyword) {
             Ok((args, end)) => {
                 let span = self.span(start, end - start);
-                self.pending.push_back(Piece::Macro(Macro::Control(Control { label, keyword, args, span }), span));
+                self.pending.push_back(Piece::Macro(
+                    Macro::Control(Control { label, keyword, args, span, fanuc: false }),
+                    span,
+                ));
                 end
             }
             Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
+    /// Fanuc macro B's `WHILE [c] DOm`, `ENDm` and `IF [c] THEN ...`, read
+    /// at `start` (`len` letters and digits long); `None` if the word is
+    /// none of them. The result is where lexing goes on.
+    fn macro_b(&mut self, text: &str, start: usize, len: usize) -> Option<usize> {
+        let word = text[start..start + len].to_ascii_uppercase();
+        let loop_number = |digits: &str| digits.parse::<u8>().ok().filter(|m| (1..=3).contains(m));
+        if let Some(number) = word.strip_prefix("END").and_then(loop_number) {
+            let span = self.span(start, len);
+            let control =
+                Control { label: number.to_string(), keyword: Keyword::EndWhile, args: Vec::new(), span, fanuc: true };
+            self.pending.push_back(Piece::Macro(Macro::Control(control), span));
+            return Some(start + len);
+        }
+        if word != "WHILE" && word != "IF" {
+            return None;
+        }
+        let mut reader = Reader::new(text, start + len, self.line_no);
+        let parsed = reader.bracketed().and_then(|condition| {
+            let rest = text[reader.pos..].trim_start();
+            let after = text.len() - rest.len();
+            let letters = rest.bytes().take_while(u8::is_ascii_alphanumeric).count();
+            let next = rest[..letters].to_ascii_uppercase();
+            let span = self.span(start, after + letters - start);
+            match (word.as_str(), next.strip_prefix("DO").and_then(loop_number)) {
+                ("WHILE", Some(number)) => {
+                    let control = Control {
+                        label: number.to_string(),
+                        keyword: Keyword::While,
+                        args: vec![condition],
+                        span,
+                        fanuc: true,
+                    };
+                    Ok(Some((Macro::Control(control), span, after + letters)))
+                }
+                ("WHILE", None) => Err(Diagnostic::error(span, "WHILE [condition] is followed by DO1, DO2 or DO3")),
+                _ if next == "THEN" => Ok(Some((Macro::Guard(condition), span, after + letters))),
+                // IF ... GOTO is refused with the rest of the control flow.
+                _ => Ok(None),
+            }
+        });
+        match parsed {
+            Ok(Some((piece, span, end))) => {
+                self.pending.push_back(Piece::Macro(piece, span));
+                Some(end)
+            }
+            Ok(None) => None,
+            Err(diagnostic) => Some(self.refuse_expression(text, start, diagnostic)),
         }
     }
 

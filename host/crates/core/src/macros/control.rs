@@ -56,15 +56,30 @@ pub struct Control {
     pub keyword: Keyword,
     pub args: Vec<Expr>,
     pub span: Span,
+    /// Fanuc macro B's `WHILE [c] DOm` or `ENDm`, labelled m.
+    pub fanuc: bool,
 }
 
 impl Control {
-    /// `o100`, as the program names it.
+    /// `o100`, as the program names it (`DO1` for Fanuc's loops).
     pub fn name(&self) -> String {
-        if self.label.chars().all(|c| c.is_ascii_digit()) {
+        if self.fanuc {
+            format!("DO{}", self.label)
+        } else if self.label.chars().all(|c| c.is_ascii_digit()) {
             format!("o{}", self.label)
         } else {
             format!("o<{}>", self.label)
+        }
+    }
+}
+
+impl Control {
+    /// The line as a message quotes it: `o100 while`, `WHILE ... DO1`, `END1`.
+    pub fn describe(&self) -> String {
+        match (self.fanuc, self.keyword) {
+            (true, Keyword::While) => format!("WHILE ... DO{}", self.label),
+            (true, _) => format!("END{}", self.label),
+            (false, keyword) => format!("{} {}", self.name(), keyword.name()),
         }
     }
 }

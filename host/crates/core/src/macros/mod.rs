@@ -251,35 +251,58 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         let mut tokens = Vec::with_capacity(line.items.len());
         let mut assignments = Vec::new();
         let mut failed = None;
+        let mut skipped = false;
         for item in &line.items {
             match item {
                 Piece::Lexed(Lexed::Diagnostic(diagnostic)) => {
                     self.out.push_back(Lexed::Diagnostic(diagnostic.clone()))
                 }
-                _ if failed.is_some() => {}
+                _ if failed.is_some() || skipped => {}
                 Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
                 Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
                     Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span: *span }),
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
                 Piece::Macro(Macro::Assign { target, value }, span) => match self.assignment(target, value, *span) {
-                    Ok(assignment) => assignments.push(assignment),
+                    Ok((target, value)) => assignments.push((target, value, *span)),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
+                Piece::Macro(Macro::Guard(condition), span) => match self.evaluate(condition, *span) {
+                    // IF [c] THEN: the rest of the line is passed over.
+                    Ok(0.0) => skipped = true,
+                    Ok(_) => {}
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
                 // A plain line has no control piece: `read` takes those.
                 Piece::Macro(Macro::Control(_), _) => {}
             }
         }
+        if let (None, Some(span)) = (&failed, alarm(&assignments)) {
+            failed = Some(self.alarm(line, &assignments, span));
+        }
         match failed {
             Some(diagnostic) => self.error(diagnostic),
             None => {
                 self.out.extend(tokens.into_iter().map(Lexed::Token));
-                for (target, value) in assignments {
+                for (target, value, _) in assignments {
                     self.store.set(target, value);
                 }
             }
         }
         self.out.extend(line.end.clone().map(Lexed::Token));
+    }
+
+    /// Fanuc's `#3000 = n (MESSAGE)`: the program stops with an alarm.
+    fn alarm(&self, line: &Line, assignments: &[(Target, f64, Span)], at: Span) -> Diagnostic {
+        let number =
+            assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(ALARM))).map_or(0.0, |a| a.1);
+        let text = line.items.iter().find_map(|item| match item {
+            Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Comment(text), .. })) => Some(text.trim()),
+            _ => None,
+        });
+        let message = format!("the program raises alarm {number}: {}", text.unwrap_or("(no message)"));
+        Diagnostic::error(at, message)
+            .with_help("a Fanuc control stops here (#3000): ger ends the translation's output of this line")
     }
 
     /// A line read from the program: run it, or keep it in the block being read.
@@ -446,11 +469,8 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 match again {
                     Ok(true) if iterations >= self.max_iterations => {
                         self.frames.pop();
-                        let message = format!(
-                            "{} {} ran {iterations} times without ending: stopped",
-                            block.head.name(),
-                            block.head.keyword.name()
-                        );
+                        let message =
+                            format!("{} ran {iterations} times without ending: stopped", block.head.describe());
                         let help = "raise [machine] max_iterations in ger.toml if it is meant to run longer";
                         self.error(Diagnostic::error(block.head.span, message).with_help(help));
                     }
@@ -504,8 +524,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 });
                 let at = found.map(|from_top| self.frames.len() - 1 - from_top);
                 let Some(at) = at.filter(|&at| matches!(self.frames[at].kind, FrameKind::Loop { .. })) else {
-                    let message =
-                        format!("{} {} is not in a loop {}", control.name(), control.keyword.name(), control.name());
+                    let message = format!("{} is not in a loop {}", control.describe(), control.name());
                     return self.error(Diagnostic::error(control.span, message));
                 };
                 self.frames.truncate(at + 1);
@@ -544,14 +563,22 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// The end of the program: blocks never closed are errors at their head.
     fn finish(&mut self) {
         for open in std::mem::take(&mut self.open) {
-            let message = format!("{} {} is never closed", open.head.name(), open.head.keyword.name());
+            let message = format!("{} is never closed", open.head.describe());
             self.error(Diagnostic::error(open.head.span, message));
         }
     }
 }
 
+/// Fanuc's alarm parameter: setting it stops the program with a message.
+const ALARM: u32 = 3000;
+
+/// Where a line sets the alarm, if it does.
+fn alarm(assignments: &[(Target, f64, Span)]) -> Option<Span> {
+    assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(ALARM))).map(|(_, _, span)| *span)
+}
+
 fn unmatched(control: &Control) -> Diagnostic {
-    let message = format!("{} {} has no block {} to belong to", control.name(), control.keyword.name(), control.name());
+    let message = format!("{} has no block {} to belong to", control.describe(), control.name());
     Diagnostic::error(control.span, message).with_help("an O-word block opens and closes with the same number")
 }
 
@@ -736,5 +763,50 @@ mod tests {
             ["4:1: error: o2 endif has no block o2 to belong to", "2:1: error: o1 if is never closed"]
         );
         assert_eq!(flat("o1 while [1] [2]"), ["2:10: error: `while` takes one [condition]"]);
+    }
+
+    /// A Fanuc macro B program and its twin flattened by hand translate to
+    /// the same moves (N numbers aside: they name different lines).
+    fn same_as_twin(macro_b: &str, twin: &str) {
+        let strip = |lines: Vec<String>| -> Vec<String> {
+            lines
+                .into_iter()
+                .map(|line| line.split_once(' ').map_or(line.clone(), |(_, rest)| rest.to_string()))
+                .collect()
+        };
+        let config = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let got = crate::passes::testing::run_with(macro_b, &config, 5);
+        assert!(got.iter().all(|line| !line.contains("error")), "{got:?}");
+        assert_eq!(
+            strip(got),
+            strip(crate::passes::testing::run_with(twin, &Config { units: Units::Mm, ..Config::default() }, 5))
+        );
+    }
+
+    #[test]
+    fn fanuc_while_loops_and_if_then_flatten_as_written_out() {
+        // Three passes down in 1 mm steps, then a move made only if a flag is set.
+        same_as_twin(
+            "G21 G90\n#100 = 0\n#101 = 3\nWHILE [#100 LT #101] DO1\n#100 = #100 + 1\nG01 X10 Z-#100 F100\nG00 X0\nEND1\n\
+             #102 = 1\nIF [#102 EQ 1] THEN #103 = 25\nIF [#102 EQ 0] THEN #103 = 50\nG00 Y#103\nM30",
+            "G21 G90\nG01 X10 Z-1 F100\nG00 X0\nG01 X10 Z-2\nG00 X0\nG01 X10 Z-3\nG00 X0\nG00 Y25\nM30",
+        );
+        // Nested loops, DO1 around DO2.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 2] DO1\n#2 = 0\nWHILE [#2 LT 2] DO2\nG01 X#2 Y#1\n#2 = #2 + 1\nEND2\n#1 = #1 + 1\nEND1\nM30",
+            "G21 G90 F50\nG01 X0 Y0\nG01 X1 Y0\nG01 X0 Y1\nG01 X1 Y1\nM30",
+        );
+    }
+
+    #[test]
+    fn a_fanuc_alarm_is_an_error_at_its_line() {
+        assert_eq!(
+            flat("#3000 = 12 (TOOL TOO SHORT)\nG01 X1 F10"),
+            ["2:1: error: the program raises alarm 12: TOOL TOO SHORT", "G01 X1.000 F10.000"]
+        );
+        assert_eq!(
+            flat("WHILE [1] DO1\nEND2"),
+            ["3:1: error: END2 has no block DO2 to belong to", "2:1: error: WHILE ... DO1 is never closed"]
+        );
     }
 }
