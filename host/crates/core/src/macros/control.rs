@@ -99,10 +99,12 @@ pub fn head(text: &str) -> Option<(String, Keyword, usize)> {
     };
     let spaces = text[after..].len() - text[after..].trim_start().len();
     let start = after + spaces;
-    let letters = text[start..].bytes().take_while(u8::is_ascii_alphabetic).count();
-    let word = text[start..start + letters].to_ascii_lowercase();
-    let &(_, keyword) = KEYWORDS.iter().find(|(name, _)| *name == word)?;
-    Some((label, keyword, start + letters))
+    // LinuxCNC reads past spaces: `o100 end sub` is `o100 endsub`.
+    let run = text[start..].bytes().take_while(|b| b.is_ascii_alphabetic() || *b == b' ' || *b == b'\t').count();
+    let run = text[start..start + run].trim_end().len();
+    let word: String = text[start..start + run].chars().filter(|c| !c.is_whitespace()).collect::<String>();
+    let &(_, keyword) = KEYWORDS.iter().find(|(name, _)| name.eq_ignore_ascii_case(&word))?;
+    Some((label, keyword, start + run))
 }
 
 /// Reads a control line's arguments, from `pos` in `text` to the end of the

@@ -15,8 +15,9 @@ pub enum Expr {
     Call(Function, Box<Expr>, Span),
     /// `ATAN[y]/[x]`, in degrees.
     Atan(Box<Expr>, Box<Expr>, Span),
-    /// `EXISTS[#<name>]`: 1 if the named parameter is set.
-    Exists(String),
+    /// `EXISTS[#<name>]`: 1 if the named parameter is set; `EXISTS[#n]`:
+    /// 1 if there is a parameter n.
+    Exists(Box<Param>),
     Binary(Op, Box<Expr>, Box<Expr>, Span),
 }
 
@@ -247,12 +248,9 @@ impl<'a> Reader<'a> {
         }
         if name == "EXISTS" {
             self.expect(b'[', "")?;
-            let at = self.pos;
-            let Param::Named(name) = self.param()? else {
-                return Err(self.error(at, "EXISTS takes a named parameter: EXISTS[#<name>]"));
-            };
+            let param = self.param()?;
             self.expect(b']', "to close the `[`")?;
-            return Ok(Expr::Exists(name));
+            return Ok(Expr::Exists(Box::new(param)));
         }
         let Some(&(_, function)) = FUNCTIONS.iter().find(|(known, _)| *known == name) else {
             return Err(self
@@ -325,7 +323,11 @@ impl Expr {
                 Param::Numbered(index) => params.numbered(number(index, params, *span)?, *span)?,
                 Param::Named(name) => params.named(name).ok_or_else(|| undefined(name, *span))?,
             },
-            Expr::Exists(name) => truth(params.named(name).is_some()),
+            Expr::Exists(param) => truth(match param.as_ref() {
+                Param::Named(name) => params.named(name).is_some(),
+                // As rs274: a number that cannot be read is no parameter.
+                Param::Numbered(index) => number(index, params, Span::default()).is_ok(),
+            }),
             Expr::Call(function, argument, span) => call(*function, argument.eval(params)?, *span)?,
             Expr::Atan(y, x, _) => y.eval(params)?.atan2(x.eval(params)?).to_degrees(),
             Expr::Binary(op, left, right, span) => binary(*op, left.eval(params)?, right.eval(params)?, *span)?,

@@ -658,6 +658,11 @@ mod tests {
             ["2:6: error: the parameter #<nothing> is not set", "G01 Y2.000 F10.000"]
         );
         assert_eq!(flat("#<_done> = 1\nG01 X[EXISTS[#<_done>] + EXISTS[#<other>]] F10"), ["G01 X1.000 F10.000"]);
+        // As rs274 reads LinuxCNC's exists test: a numbered one exists if its number is one.
+        assert_eq!(
+            flat("#1 = 2\n#2 = 99999\nG01 X[EXISTS[##1]] Y[EXISTS[##2]] Z[EXISTS[###1]] F10"),
+            ["G01 X1.000 Y0.000 Z0.000 F10.000"]
+        );
     }
 
     #[test]
@@ -718,7 +723,8 @@ mod tests {
 
     #[test]
     fn loops_run_their_bodies_and_stream() {
-        let whiles = "#1 = 0\no101 while [#1 LT 3]\nG01 X#1 F10\n#1 = [#1 + 1]\no101 endwhile";
+        // `o101 end while`: LinuxCNC reads past the space.
+        let whiles = "#1 = 0\no101 while [#1 LT 3]\nG01 X#1 F10\n#1 = [#1 + 1]\no101 end while";
         assert_eq!(flat(whiles), ["G01 X0.000 F10.000", "G01 X1.000", "G01 X2.000"]);
         // do-while runs once before its test; repeat its count.
         let dos = "#1 = 5\no102 do\nG01 X#1 F10\n#1 = [#1 + 1]\no102 while [#1 LT 3]\no103 repeat [2]\nG01 Y1\nG01 Y0\no103 endrepeat";
