@@ -34,6 +34,9 @@ const LOCALS: usize = 30;
 /// `[machine] max_iterations`' default: how many times one loop may run.
 pub const MAX_ITERATIONS: u64 = 1_000_000;
 
+/// Where `return [value]` leaves the value.
+const RETURNED: &str = "_value";
+
 /// How deep subroutine calls may nest: a recursion this deep is taken as
 /// one that never ends.
 const MAX_CALL_DEPTH: usize = 100;
@@ -55,7 +58,9 @@ pub struct Store {
 
 impl Default for Store {
     fn default() -> Store {
-        Store { numbered: HashMap::new(), named: HashMap::new(), levels: vec![Locals::default()] }
+        // A subroutine's value reads 0 until one returns, as in LinuxCNC.
+        let named = HashMap::from([(RETURNED.to_string(), 0.0)]);
+        Store { numbered: HashMap::new(), named, levels: vec![Locals::default()] }
     }
 }
 
@@ -499,7 +504,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 if let Some(value) = control.args.first() {
                     match self.evaluate(value, control.span) {
                         Ok(value) => {
-                            self.store.named.insert("_value".to_string(), value);
+                            self.store.named.insert(RETURNED.to_string(), value);
                         }
                         Err(diagnostic) => self.error(diagnostic),
                     }
@@ -653,6 +658,8 @@ mod tests {
     #[test]
     fn an_unset_numbered_parameter_is_zero_and_an_unset_name_an_error() {
         assert_eq!(flat("G01 X#7 Y1 F10"), ["G01 X0.000 Y1.000 F10.000"]);
+        // rs274 reads #<_value> as 0 before any subroutine returns.
+        assert_eq!(flat("G01 X#<_value> Y1 F10"), ["G01 X0.000 Y1.000 F10.000"]);
         assert_eq!(
             flat("G01 X#<nothing> F10\nG01 Y2 F10"),
             ["2:6: error: the parameter #<nothing> is not set", "G01 Y2.000 F10.000"]
