@@ -197,6 +197,8 @@ pub struct Interpreter<L> {
     /// The bodies being run, outermost first.
     frames: Vec<Frame>,
     subs: HashMap<String, Rc<Sub>>,
+    /// Lines read ahead to find a subroutine, to be run in their turn.
+    ahead: VecDeque<Line>,
     max_iterations: u64,
     out: VecDeque<Lexed>,
     done: bool,
@@ -211,6 +213,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             open: Vec::new(),
             frames: Vec::new(),
             subs: HashMap::new(),
+            ahead: VecDeque::new(),
             max_iterations,
             out: VecDeque::new(),
             done: false,
@@ -544,11 +547,12 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     }
 
     fn call(&mut self, control: &Control) {
-        let Some(sub) = self.subs.get(&control.label).cloned() else {
-            let message = format!("{} is called before it is defined", control.name());
-            let help = "define the subroutine (o100 sub ... o100 endsub) above its first call";
+        if !self.subs.contains_key(&control.label) && !self.look_ahead_for(&control.label) {
+            let message = format!("{} is called but never defined", control.name());
+            let help = "define the subroutine in the program: o100 sub ... o100 endsub";
             return self.error(Diagnostic::error(control.span, message).with_help(help));
-        };
+        }
+        let sub = self.subs[&control.label].clone();
         if self.store.levels.len() > MAX_CALL_DEPTH {
             let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
             return self.error(Diagnostic::error(control.span, message));
@@ -563,6 +567,55 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
         self.store.levels.push(locals);
         self.frames.push(Frame { body: sub.body.clone(), next: 0, kind: FrameKind::Call { origin } });
+    }
+
+    /// The next line from the lexer, whole; `None` at the program's end.
+    fn next_line(&mut self) -> Option<Line> {
+        loop {
+            match self.tokens.next() {
+                Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
+                    let mut line = std::mem::take(&mut self.line);
+                    line.end = Some(token);
+                    return Some(line);
+                }
+                Some(item) => self.line.items.push(item),
+                None => {
+                    let line = std::mem::take(&mut self.line);
+                    return (!line.items.is_empty()).then_some(line);
+                }
+            }
+        }
+    }
+
+    /// Reads on to the definition of a subroutine called above it, as
+    /// LinuxCNC does; the lines passed over wait in `ahead` for their turn
+    /// (so a program whose subroutines follow its main part holds the rest
+    /// of that part meanwhile). True if it was found.
+    fn look_ahead_for(&mut self, label: &str) -> bool {
+        while let Some(line) = self.next_line() {
+            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label);
+            if !defines {
+                self.ahead.push_back(line);
+                continue;
+            }
+            // The definition is read as any block; closed, it is a frame that
+            // would define it when run: it is defined now instead.
+            self.read(line);
+            while !self.open.is_empty() {
+                let Some(line) = self.next_line() else { break };
+                self.read(line);
+            }
+            let defined = self.frames.last().and_then(|frame| match &frame.body[..] {
+                [Node::Sub(sub)] if matches!(frame.kind, FrameKind::Branch) => Some(sub.clone()),
+                _ => None,
+            });
+            if let Some(sub) = defined {
+                self.frames.pop();
+                self.subs.insert(sub.head.label.clone(), sub);
+            }
+            return self.subs.contains_key(label);
+        }
+        false
     }
 
     /// The end of the program: blocks never closed are errors at their head.
@@ -598,22 +651,17 @@ impl<L: Iterator<Item = Piece>> Iterator for Interpreter<L> {
             if self.step() {
                 continue;
             }
+            if let Some(line) = self.ahead.pop_front() {
+                self.read(line);
+                continue;
+            }
             if self.done {
                 return None;
             }
-            match self.tokens.next() {
-                Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
-                    let mut line = std::mem::take(&mut self.line);
-                    line.end = Some(token);
-                    self.read(line);
-                }
-                Some(item) => self.line.items.push(item),
+            match self.next_line() {
+                Some(line) => self.read(line),
                 None => {
                     self.done = true;
-                    let line = std::mem::take(&mut self.line);
-                    if !line.items.is_empty() {
-                        self.read(line);
-                    }
                     self.finish();
                 }
             }
@@ -724,7 +772,13 @@ mod tests {
         assert_eq!(got, ["4:6: error: the parameter #<here> is not set"]);
         assert_eq!(
             flat("o100 call\nG01 X1 F10"),
-            ["2:1: error: o100 is called before it is defined", "G01 X1.000 F10.000"]
+            ["2:1: error: o100 is called but never defined", "G01 X1.000 F10.000"]
+        );
+        // A subroutine defined below its call is read ahead for, as LinuxCNC
+        // does; what it passed over runs after the call, in order.
+        assert_eq!(
+            flat("G01 F10\no100 call [3]\nG01 Y1\no100 call [4]\nM30\no100 sub\nG01 X#1\no100 endsub"),
+            ["G01 X3.000 F10.000", "G01 Y1.000", "G01 X4.000", "M30"]
         );
     }
 
