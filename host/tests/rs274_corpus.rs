@@ -217,8 +217,14 @@ fn ger_moves_like_rs274_on_the_corpus() {
     let [mills, _, mills_refused, mills_agree, mills_disagree] = by_kind[Class::Mill.label()];
     let mills_accepted = mills_agree + mills_disagree + mills_refused;
     let mills_translated = 100.0 * (mills_agree + mills_disagree) as f64 / mills_accepted.max(1) as f64;
-    if percent < 98.0 {
-        problems.push(format!("only {percent:.1}% of the programs both accept agree"));
+    // The line is drawn where ger's own rules decide (issue 13): the macro-free mill programs. With macro
+    // programming, agreement also depends on the interpreter stage's reach, and is shown by kind below.
+    let mills_both = mills_agree + mills_disagree;
+    let mills_agreement = 100.0 * mills_agree as f64 / mills_both.max(1) as f64;
+    if mills_agreement < 98.0 {
+        problems.push(format!(
+            "only {mills_agreement:.1}% of the mill programs without macro programming that both accept agree"
+        ));
     }
     if mills_translated < 95.0 {
         problems.push(format!("ger translates only {mills_translated:.1}% of the mill programs rs274 accepts"));
@@ -226,8 +232,9 @@ fn ger_moves_like_rs274_on_the_corpus() {
     let _ = writeln!(
         table,
         "**Of the {mills_accepted} 3-axis mill programs without macro programming that rs274 accepts, ger translates \
-         {} ({:.1}%)**; rs274 refuses {} of the {mills}.\n",
-        mills_agree + mills_disagree,
+         {} ({:.1}%), and {mills_agree} of those {mills_both} agree ({mills_agreement:.1}%)**; rs274 refuses {} of \
+         the {mills}.\n",
+        mills_both,
         mills_translated,
         mills - mills_accepted,
     );

@@ -71,6 +71,17 @@ pub struct MachineSettings {
     /// How far the arcs and lines a spline (lenient G5, G5.1, G5.2) becomes
     /// may stray from it, in machine units: default 0.001 in or 0.02 mm.
     pub spline_tolerance: Option<f64>,
+    /// How many times an O-word loop (lenient dialect) may run before it is
+    /// stopped as one that never ends.
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: u64,
+}
+
+/// The most `[machine] max_iterations` may be: a loop that long is a hang.
+const MAX_ITERATIONS_BOUND: u64 = 1_000_000_000;
+
+fn default_max_iterations() -> u64 {
+    crate::macros::MAX_ITERATIONS
 }
 
 impl Default for MachineSettings {
@@ -83,6 +94,7 @@ impl Default for MachineSettings {
             rapid_rate: None,
             default_feed: None,
             spline_tolerance: None,
+            max_iterations: default_max_iterations(),
         }
     }
 }
@@ -318,15 +330,24 @@ impl Tool {
 
 /// `dialect = "lenient"`, or a `[dialect]` table with the name and what to
 /// do with M codes the lenient dialect does not know.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct DialectConfig {
     pub name: Dialect,
     pub codes: CodeLists,
+    /// `[machine] max_iterations`, here because the interpreter stage reads
+    /// the dialect alone.
+    pub max_iterations: u64,
+}
+
+impl Default for DialectConfig {
+    fn default() -> DialectConfig {
+        Dialect::default().into()
+    }
 }
 
 impl From<Dialect> for DialectConfig {
     fn from(name: Dialect) -> DialectConfig {
-        DialectConfig { name, codes: CodeLists::default() }
+        DialectConfig { name, codes: CodeLists::default(), max_iterations: default_max_iterations() }
     }
 }
 
@@ -384,7 +405,7 @@ mod dialect_config {
             // A table alone says what to do with codes only the lenient dialect reads.
             let name = table.name.as_deref().map_or(Ok(Dialect::Lenient), name)?;
             let codes = CodeLists { pass_through: codes(&table.pass_through)?, ignore: codes(&table.ignore)? };
-            Ok(DialectConfig { name, codes })
+            Ok(DialectConfig { name, codes, max_iterations: super::default_max_iterations() })
         }
     }
 
@@ -423,6 +444,7 @@ impl Config {
             let source = ToolSource::Config { file: String::new() };
             config.tool_sources = config.tools.iter().map(|t| (t.number, source.clone())).collect();
         }
+        config.dialect.max_iterations = config.machine.max_iterations;
         config.validate(text)
     }
 
@@ -510,6 +532,10 @@ impl Config {
         if machine.m47_repeats > MAX_M47_REPEATS {
             let message = format!("[machine] m47_repeats must be from 0 to {MAX_M47_REPEATS}");
             return Err(at(&key("machine", "m47_repeats"), message));
+        }
+        if !(1..=MAX_ITERATIONS_BOUND).contains(&machine.max_iterations) {
+            let message = format!("[machine] max_iterations must be from 1 to {MAX_ITERATIONS_BOUND}");
+            return Err(at(&key("machine", "max_iterations"), message));
         }
         if machine.travel.is_some_and(|travel| !sizes(&travel)) {
             return Err(at(&key("machine", "travel"), format!("[machine] travel must be three lengths {lengths}")));
@@ -780,6 +806,7 @@ tip_angle = 90
             ("[render]\nscale = 0\n", 2, "cells per in"),
             ("[render]\nmemory_limit_mb = 0\n", 2, "from 1 to 1048576"),
             ("units = \"mm\"\n[machine]\nm47_repeats = 1000000\n", 3, "from 0 to 1000"),
+            ("[machine]\nmax_iterations = 0\n", 2, "from 1 to 1000000000"),
             ("units = \"mm\"\n[machine]\nrapid_rate = 1e-300\n", 3, "from 1 to 1000000 mm/min"),
             ("[machine]\ng30 = [0, 0, 1e300]\n", 2, "within ±4000 in"),
             ("[machine]\ndefault_feed = 0\n", 2, "default_feed must be from 0.04 to 40000 in/min"),

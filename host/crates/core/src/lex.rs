@@ -8,6 +8,8 @@
 use std::io::BufRead;
 
 use crate::diag::{Diagnostic, Span};
+use crate::macros::control::{self, Control, Keyword};
+use crate::macros::expr::{self, Expr, Param, Reader};
 use crate::statement::Dialect;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -24,7 +26,7 @@ pub enum TokenKind {
     /// A wizard call's "double-quoted" argument, without the quotes.
     Str(String),
     Comment(String),
-    /// `;` or the end of a line.
+    /// `;` or the end of a line (a line's end has no length).
     End,
     /// `/` at the start of a line: block delete.
     BlockDelete,
@@ -36,9 +38,33 @@ pub struct Token {
     pub span: Span,
 }
 
+#[derive(Clone)]
 pub enum Lexed {
     Token(Token),
     Diagnostic(Diagnostic),
+}
+
+/// What the lexer makes: a token or a diagnostic, or, in the lenient
+/// dialect, a piece of macro programming for the interpreter stage
+/// ([`crate::macros`]), which [`Lexer::pieces`] hands out. Iterating the
+/// lexer itself passes over the macro pieces.
+#[derive(Clone)]
+pub enum Piece {
+    Lexed(Lexed),
+    Macro(Macro, Span),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Macro {
+    /// A word whose value is an expression: `X[#1 + 2]`, `F#<feed>`.
+    Expression { letter: char, value: Expr },
+    /// `#1 = expr`.
+    Assign { target: Param, value: Expr },
+    /// An O-word control line: `o100 while [#1 LT 3]`; or Fanuc's
+    /// `WHILE [c] DO1` and `END1`.
+    Control(Control),
+    /// Fanuc's `IF [c] THEN`: the rest of the line runs only if c holds.
+    Guard(Expr),
 }
 
 /// Lexes a whole program held in memory; handy for tests and small inputs.
@@ -60,7 +86,7 @@ pub struct Lexer<R> {
     raw: Vec<u8>,
     line_no: u32,
     /// Tokens of the current line, handed out front to back.
-    pending: std::collections::VecDeque<Lexed>,
+    pending: std::collections::VecDeque<Piece>,
     /// Set while a comment is open across lines.
     open_comment: Option<OpenComment>,
     done: bool,
@@ -178,11 +204,11 @@ impl<R: BufRead> Lexer<R> {
     fn push_token(&mut self, kind: TokenKind, col: usize, len: usize) {
         self.read_code |= !matches!(kind, TokenKind::Comment(_) | TokenKind::End);
         let span = Span::new(self.line_no, col as u32 + 1, len as u32);
-        self.pending.push_back(Lexed::Token(Token { kind, span }));
+        self.pending.push_back(Piece::Lexed(Lexed::Token(Token { kind, span })));
     }
 
     fn push_diag(&mut self, diagnostic: Diagnostic) {
-        self.pending.push_back(Lexed::Diagnostic(diagnostic));
+        self.pending.push_back(Piece::Lexed(Lexed::Diagnostic(diagnostic)));
     }
 
     fn span(&self, col: usize, len: usize) -> Span {
@@ -214,8 +240,8 @@ impl<R: BufRead> Lexer<R> {
             comment.body.push('\n');
             match self.continue_comment(text, 0, &mut comment) {
                 Some(end) => {
-                    self.pending
-                        .push_back(Lexed::Token(Token { kind: TokenKind::Comment(comment.body), span: comment.start }));
+                    let token = Token { kind: TokenKind::Comment(comment.body), span: comment.start };
+                    self.pending.push_back(Piece::Lexed(Lexed::Token(token)));
                     pos = end;
                 }
                 None => {
@@ -281,11 +307,17 @@ impl<R: BufRead> Lexer<R> {
                 }
                 b'"' if in_wizard_args => pos = self.string(text, pos),
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
+                b'o' | b'O' if self.lenient && control::head(&text[pos..]).is_some() => pos = self.control(text, pos),
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
                     if let Some(end) = self.program_name(text, pos) {
                         pos = end;
+                    } else if letters >= 2 && self.lenient && is_function_value(&text[pos + 1..]) {
+                        let letter = bytes[pos].to_ascii_uppercase() as char;
+                        pos = self.expression_word(text, pos, letter);
+                    } else if letters >= 2 && self.lenient && self.macro_b(text, pos, name_len).is_some() {
+                        pos = self.macro_b(text, pos, name_len).unwrap_or(pos + name_len);
                     } else if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
                     } else if letters >= 2 {
@@ -297,6 +329,7 @@ impl<R: BufRead> Lexer<R> {
                         pos = self.word(text, pos, first_on_line);
                     }
                 }
+                b'#' if self.lenient => pos = self.assignment(text, pos),
                 b'#' => pos = self.refuse_rest_of_line(text, pos, Parameters),
                 b'[' => pos = self.refuse_rest_of_line(text, pos, Expressions),
                 b'/' if first_on_line => {
@@ -362,11 +395,11 @@ impl<R: BufRead> Lexer<R> {
         let (message, help) = match what {
             Parameters => (
                 "parameters (`#1`, `#<name>`) are not supported: ger has no variables",
-                "write the numbers out, or have a wizard compute them",
+                "the lenient dialect (--lenient) reads parameters and expressions as LinuxCNC does",
             ),
             Expressions => (
                 "expressions in `[ ]` are not supported: ger has no variables",
-                "write the numbers out, or have a wizard compute them",
+                "the lenient dialect (--lenient) reads parameters and expressions as LinuxCNC does",
             ),
             ControlFlow => (
                 "program control flow (Fanuc macro B IF/GOTO/WHILE, LinuxCNC O-word sub/if/while) is not supported",
@@ -450,8 +483,13 @@ impl<R: BufRead> Lexer<R> {
     /// number meant (`X -1.5`, `Y-`), so one slip gives one error.
     fn word_without_number(&mut self, text: &str, start: usize, letter: char) -> usize {
         let rest = &text[start + 1..];
+        let value = rest.trim_start();
+        let signed = value.strip_prefix(['-', '+']).unwrap_or(value).trim_start();
+        if self.lenient && (signed.starts_with(['[', '#']) || is_function_value(signed)) {
+            return self.expression_word(text, start, letter);
+        }
         // `R[...]` and `X#1` are refused as expressions and parameters, once.
-        if rest.trim_start().starts_with(['[', '#']) {
+        if value.starts_with(['[', '#']) {
             return start + 1 + (rest.len() - rest.trim_start().len());
         }
         if self.lenient {
@@ -470,6 +508,118 @@ impl<R: BufRead> Lexer<R> {
             .with_help(format!("write it as one word, e.g. {letter}1.5 (no space between letter and number)"));
         self.push_diag(diagnostic);
         start + len
+    }
+
+    /// A word whose value is an expression: `X[#1 + 2]`, `F#<feed>`, `Z-#3`.
+    fn expression_word(&mut self, text: &str, start: usize, letter: char) -> usize {
+        let mut reader = Reader::new(text, start + 1, self.line_no);
+        match reader.value() {
+            Ok(value) => {
+                let span = self.span(start, reader.pos - start);
+                self.pending.push_back(Piece::Macro(Macro::Expression { letter, value }, span));
+                reader.pos
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
+    /// `#1 = expr`, `#<name> = expr`, `#[#1 + 1] = expr`. The value may be
+    /// written without brackets (`#1 = #2 + 1`), as Fanuc allows.
+    fn assignment(&mut self, text: &str, start: usize) -> usize {
+        let mut reader = Reader::new(text, start, self.line_no);
+        let parsed = reader.param().and_then(|target| {
+            let at = reader.pos;
+            match text[at..].trim_start().strip_prefix('=') {
+                Some(after) => reader.pos = text.len() - after.len(),
+                None => {
+                    let message = "a parameter here is set: write `#1 = value`";
+                    let help = "a word takes a parameter as its value: X#1";
+                    return Err(Diagnostic::error(self.span(start, at - start), message).with_help(help));
+                }
+            }
+            Ok((target, reader.infix()?))
+        });
+        match parsed {
+            Ok((target, value)) => {
+                let span = self.span(start, reader.pos - start);
+                self.pending.push_back(Piece::Macro(Macro::Assign { target, value }, span));
+                reader.pos
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
+    /// An O-word control line: the rest of the line is its arguments.
+    fn control(&mut self, text: &str, start: usize) -> usize {
+        let Some((label, keyword, after)) = control::head(&text[start..]) else { return start + 1 };
+        match control::arguments(text, start + after, self.line_no, keyword) {
+            Ok((args, end)) => {
+                let span = self.span(start, end - start);
+                self.pending.push_back(Piece::Macro(
+                    Macro::Control(Control { label, keyword, args, span, fanuc: false }),
+                    span,
+                ));
+                end
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
+    /// Fanuc macro B's `WHILE [c] DOm`, `ENDm` and `IF [c] THEN ...`, read
+    /// at `start` (`len` letters and digits long); `None` if the word is
+    /// none of them. The result is where lexing goes on.
+    fn macro_b(&mut self, text: &str, start: usize, len: usize) -> Option<usize> {
+        let word = text[start..start + len].to_ascii_uppercase();
+        let loop_number = |digits: &str| digits.parse::<u8>().ok().filter(|m| (1..=3).contains(m));
+        if let Some(number) = word.strip_prefix("END").and_then(loop_number) {
+            let span = self.span(start, len);
+            let control =
+                Control { label: number.to_string(), keyword: Keyword::EndWhile, args: Vec::new(), span, fanuc: true };
+            self.pending.push_back(Piece::Macro(Macro::Control(control), span));
+            return Some(start + len);
+        }
+        if word != "WHILE" && word != "IF" {
+            return None;
+        }
+        let mut reader = Reader::new(text, start + len, self.line_no);
+        let parsed = reader.bracketed().and_then(|condition| {
+            let rest = text[reader.pos..].trim_start();
+            let after = text.len() - rest.len();
+            let letters = rest.bytes().take_while(u8::is_ascii_alphanumeric).count();
+            let next = rest[..letters].to_ascii_uppercase();
+            let span = self.span(start, after + letters - start);
+            match (word.as_str(), next.strip_prefix("DO").and_then(loop_number)) {
+                ("WHILE", Some(number)) => {
+                    let control = Control {
+                        label: number.to_string(),
+                        keyword: Keyword::While,
+                        args: vec![condition],
+                        span,
+                        fanuc: true,
+                    };
+                    Ok(Some((Macro::Control(control), span, after + letters)))
+                }
+                ("WHILE", None) => Err(Diagnostic::error(span, "WHILE [condition] is followed by DO1, DO2 or DO3")),
+                _ if next == "THEN" => Ok(Some((Macro::Guard(condition), span, after + letters))),
+                // IF ... GOTO is refused with the rest of the control flow.
+                _ => Ok(None),
+            }
+        });
+        match parsed {
+            Ok(Some((piece, span, end))) => {
+                self.pending.push_back(Piece::Macro(piece, span));
+                Some(end)
+            }
+            Ok(None) => None,
+            Err(diagnostic) => Some(self.refuse_expression(text, start, diagnostic)),
+        }
+    }
+
+    /// A malformed expression: its error, and the rest of the line is
+    /// skipped (up to a comment), since its words would be read wrongly.
+    fn refuse_expression(&mut self, text: &str, start: usize, diagnostic: Diagnostic) -> usize {
+        self.push_diag(diagnostic);
+        text[start..].find('(').map_or(text.len(), |i| start + i)
     }
 
     fn wizard_number(&mut self, text: &str, start: usize) -> usize {
@@ -541,6 +691,12 @@ fn is_control_flow(name: &str) -> bool {
     KEYWORDS.contains(&word.as_str())
 }
 
+/// Whether `rest` starts with a function's name and `[`: `SIN[30]`.
+fn is_function_value(rest: &str) -> bool {
+    let letters = rest.bytes().take_while(u8::is_ascii_alphabetic).count();
+    letters >= 2 && expr::is_function(&rest[..letters]) && rest[letters..].trim_start().starts_with('[')
+}
+
 /// Whether `rest` reads as G-code: words (`X1.5`, `G01`), comments, or nothing.
 fn is_gcode(rest: &str) -> bool {
     let mut rest = rest.trim_start();
@@ -575,13 +731,16 @@ fn number_len(s: &str) -> usize {
     }
 }
 
-impl<R: BufRead> Iterator for Lexer<R> {
-    type Item = Lexed;
+impl<R: BufRead> Lexer<R> {
+    /// The lexer's pieces, macro programming included, for the interpreter stage.
+    pub fn pieces(self) -> Pieces<R> {
+        Pieces(self)
+    }
 
-    fn next(&mut self) -> Option<Lexed> {
+    fn next_piece(&mut self) -> Option<Piece> {
         loop {
-            if let Some(item) = self.pending.pop_front() {
-                return Some(item);
+            if let Some(piece) = self.pending.pop_front() {
+                return Some(piece);
             }
             if self.done {
                 return None;
@@ -595,6 +754,29 @@ impl<R: BufRead> Iterator for Lexer<R> {
                         .with_help("add `)` where the comment should end");
                     self.push_diag(diagnostic);
                 }
+            }
+        }
+    }
+}
+
+/// A lexer's pieces: see [`Piece`].
+pub struct Pieces<R>(Lexer<R>);
+
+impl<R: BufRead> Iterator for Pieces<R> {
+    type Item = Piece;
+
+    fn next(&mut self) -> Option<Piece> {
+        self.0.next_piece()
+    }
+}
+
+impl<R: BufRead> Iterator for Lexer<R> {
+    type Item = Lexed;
+
+    fn next(&mut self) -> Option<Lexed> {
+        loop {
+            if let Piece::Lexed(lexed) = self.next_piece()? {
+                return Some(lexed);
             }
         }
     }
@@ -720,9 +902,11 @@ mod tests {
                 "3:4 End"
             ]
         );
-        // After code, or with more on its line, it is control flow, still refused.
+        // After code it is not a name.
         assert!(lenient("G0 X1\nO<MyProgram>")[3].starts_with("2:1: error: `O` must be followed by a number"));
-        assert!(lenient("O<sub1> sub")[0].starts_with("1:1: error: `O` must be followed by a number"));
+        // With more on its line it is an O-word, for the interpreter stage: not a name.
+        let first = Lexer::in_dialect("O<sub1> sub".as_bytes(), Dialect::Lenient).pieces().next();
+        assert!(matches!(first, Some(Piece::Macro(..))));
         assert!(tokens("O<MyProgram>")[0].starts_with("1:1: error: `O` must be followed by a number"));
     }
 

@@ -13,6 +13,7 @@ pub mod diag;
 pub mod emit;
 pub mod geom;
 pub mod lex;
+pub mod macros;
 pub mod parse;
 pub mod passes;
 pub mod state;

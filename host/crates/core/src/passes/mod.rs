@@ -16,6 +16,7 @@ use std::rc::Rc;
 use crate::config::{Config, DialectConfig};
 use crate::diag::Diagnostic;
 use crate::lex::Lexer;
+use crate::macros::Interpreter;
 use crate::parse::parse_in;
 pub use crate::parse::Event;
 use crate::state;
@@ -119,9 +120,11 @@ pub struct Options<'a> {
 }
 
 /// Lexes and parses a program in the configured dialect: the statements
-/// before any pass.
+/// before any pass. The lenient dialect's parameters and expressions are
+/// worked out between the two, by the interpreter stage.
 pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
-    parse_in(Lexer::in_dialect(program, dialect.name), dialect.name).with_code_lists(dialect.codes.clone())
+    let tokens = Interpreter::new(Lexer::in_dialect(program, dialect.name).pieces(), dialect.max_iterations);
+    parse_in(tokens, dialect.name).with_code_lists(dialect.codes.clone())
 }
 
 /// Lexes, parses and simplifies a program, yielding the statements and

@@ -1,0 +1,882 @@
+//! The interpreter stage of the lenient dialect: parameters, expressions
+//! and LinuxCNC's O-word control flow, between the lexer and the parser.
+//!
+//! The lexer reads `X[#1 + 2]` as an expression word and `#1 = 5` as an
+//! assignment; this stage evaluates them against the parameters set so far
+//! and hands the parser plain words, so no later stage knows a program had
+//! variables. As in LinuxCNC, every read on a line happens before the line's
+//! assignments take effect: `#1 = 2 X#1` moves to the old `#1`. An
+//! evaluation error drops the line it is on (its assignments too), so one
+//! mistake gives one error. O-word lines (`control.rs`) shape the lines
+//! into blocks, read whole before they run; subroutine calls, loops and
+//! branches run them from memory, a line at a time.
+
+pub mod control;
+pub mod expr;
+
+use std::collections::{HashMap, VecDeque};
+use std::rc::Rc;
+use std::sync::Arc;
+
+use crate::diag::{Diagnostic, Origin, Span};
+use crate::lex::{Lexed, Macro, Piece, Token, TokenKind, MAX_NUMBER};
+use control::{Control, Keyword};
+use expr::{Expr, Param, Parameters};
+
+/// Numbered parameters from here on are LinuxCNC's system parameters
+/// (work offsets, G28/G30 points, the current position): ger does not
+/// compute them, so a program that reads or sets one is refused there.
+const FIRST_SYSTEM_PARAMETER: u32 = 5000;
+
+/// `#1` to `#30` belong to a call level, as in LinuxCNC.
+const LOCALS: usize = 30;
+
+/// `[machine] max_iterations`' default: how many times one loop may run.
+pub const MAX_ITERATIONS: u64 = 1_000_000;
+
+/// Where `return [value]` leaves the value.
+const RETURNED: &str = "_value";
+
+/// How deep subroutine calls may nest: a recursion this deep is taken as
+/// one that never ends.
+const MAX_CALL_DEPTH: usize = 100;
+
+/// The parameters of one call level: `#1`-`#30` and the names without `_`.
+#[derive(Default)]
+struct Locals {
+    numbered: [f64; LOCALS],
+    named: HashMap<String, f64>,
+}
+
+/// The parameters a program has set.
+pub struct Store {
+    numbered: HashMap<u32, f64>,
+    named: HashMap<String, f64>,
+    /// The call levels, the main program's first.
+    levels: Vec<Locals>,
+}
+
+impl Default for Store {
+    fn default() -> Store {
+        // A subroutine's value reads 0 until one returns, as in LinuxCNC.
+        let named = HashMap::from([(RETURNED.to_string(), 0.0)]);
+        Store { numbered: HashMap::new(), named, levels: vec![Locals::default()] }
+    }
+}
+
+impl Store {
+    fn level(&mut self) -> &mut Locals {
+        self.levels.last_mut().expect("the main program's level is never left")
+    }
+
+    fn set(&mut self, target: Target, value: f64) {
+        match target {
+            Target::Numbered(number) if number as usize <= LOCALS => self.level().numbered[number as usize - 1] = value,
+            Target::Numbered(number) => {
+                self.numbered.insert(number, value);
+            }
+            Target::Named(name) if name.starts_with('_') => {
+                self.named.insert(name, value);
+            }
+            Target::Named(name) => {
+                self.level().named.insert(name, value);
+            }
+        }
+    }
+}
+
+impl Parameters for Store {
+    fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic> {
+        system_parameter(number, at)?;
+        if number as usize <= LOCALS {
+            return Ok(self.levels.last().map_or(0.0, |level| level.numbered[number as usize - 1]));
+        }
+        // An unset numbered parameter reads as 0, as in LinuxCNC.
+        Ok(self.numbered.get(&number).copied().unwrap_or(0.0))
+    }
+
+    fn named(&self, name: &str) -> Option<f64> {
+        if name.starts_with('_') {
+            self.named.get(name).copied()
+        } else {
+            self.levels.last()?.named.get(name).copied()
+        }
+    }
+}
+
+fn system_parameter(number: u32, at: Span) -> Result<(), Diagnostic> {
+    if number < FIRST_SYSTEM_PARAMETER {
+        return Ok(());
+    }
+    Err(Diagnostic::error(at, format!("#{number} is one of LinuxCNC's system parameters, which ger does not compute"))
+        .with_help(format!("ger's parameters are #1 to #{}, and named ones", FIRST_SYSTEM_PARAMETER - 1)))
+}
+
+/// Where an assignment goes, worked out when the line is read.
+enum Target {
+    Numbered(u32),
+    Named(String),
+}
+
+/// A line as the lexer gave it, kept to be run again when it is in a loop
+/// or a subroutine: its tokens, the lexer's diagnostics, and its end.
+#[derive(Clone, Default)]
+struct Line {
+    items: Vec<Piece>,
+    end: Option<Token>,
+}
+
+impl Line {
+    /// The line's O-word control, if it is a control line.
+    fn control(&self) -> Option<&Control> {
+        self.items.iter().find_map(|item| match item {
+            Piece::Macro(Macro::Control(control), _) => Some(control),
+            _ => None,
+        })
+    }
+}
+
+type Body = Rc<[Node]>;
+
+/// A program's structure, as far as a block that is running needs it.
+enum Node {
+    Line(Line),
+    /// `call`, `return`, `break`, `continue`.
+    Simple(Control),
+    /// `if`, then any `elseif`s and an `else`, each with its body.
+    If(Vec<(Control, Body)>),
+    Loop(Rc<Loop>),
+    Sub(Rc<Sub>),
+}
+
+struct Loop {
+    head: Control,
+    /// A do-while loop's condition, from its closing `while`.
+    until: Option<Control>,
+    body: Body,
+}
+
+struct Sub {
+    head: Control,
+    body: Body,
+}
+
+/// A block being read: its head, the nodes so far, and for an `if` the
+/// branches before the current one.
+struct Open {
+    head: Control,
+    nodes: Vec<Node>,
+    branches: Vec<(Control, Body)>,
+}
+
+/// A body being run.
+struct Frame {
+    body: Body,
+    next: usize,
+    kind: FrameKind,
+}
+
+enum FrameKind {
+    Branch,
+    Loop { block: Rc<Loop>, iterations: u64, remaining: u64 },
+    Call { origin: Arc<Origin> },
+}
+
+/// Runs over the lexer's tokens a line at a time: turns expression words
+/// into words, carries out assignments at each line's end, and runs the
+/// O-word control lines. A block (`sub`, `if`, a loop) is read whole before
+/// it runs and kept while it does; everything else streams. A line with an
+/// error gives the parser nothing of it but its diagnostics.
+pub struct Interpreter<L> {
+    tokens: L,
+    store: Store,
+    /// The line being read.
+    line: Line,
+    /// The blocks being read, outermost first.
+    open: Vec<Open>,
+    /// The bodies being run, outermost first.
+    frames: Vec<Frame>,
+    subs: HashMap<String, Rc<Sub>>,
+    /// Lines read ahead to find a subroutine, to be run in their turn.
+    ahead: VecDeque<Line>,
+    max_iterations: u64,
+    out: VecDeque<Lexed>,
+    done: bool,
+}
+
+impl<L: Iterator<Item = Piece>> Interpreter<L> {
+    pub fn new(tokens: L, max_iterations: u64) -> Interpreter<L> {
+        Interpreter {
+            tokens,
+            store: Store::default(),
+            line: Line::default(),
+            open: Vec::new(),
+            frames: Vec::new(),
+            subs: HashMap::new(),
+            ahead: VecDeque::new(),
+            max_iterations,
+            out: VecDeque::new(),
+            done: false,
+        }
+    }
+
+    /// The call the running line is in, for its diagnostics.
+    fn origin(&self) -> Option<Arc<Origin>> {
+        self.frames.iter().rev().find_map(|frame| match &frame.kind {
+            FrameKind::Call { origin } => Some(origin.clone()),
+            _ => None,
+        })
+    }
+
+    fn error(&mut self, diagnostic: Diagnostic) {
+        let diagnostic = diagnostic.with_origin(self.origin());
+        self.out.push_back(Lexed::Diagnostic(diagnostic));
+    }
+
+    fn evaluate(&self, expr: &Expr, span: Span) -> Result<f64, Diagnostic> {
+        let value = expr.eval(&self.store)?;
+        if value.abs() > MAX_NUMBER {
+            let message = format!("this works out to {value:.0}: ger reads numbers up to 10^12");
+            return Err(Diagnostic::error(span, message));
+        }
+        Ok(value)
+    }
+
+    fn assignment(&self, target: &Param, value: &Expr, span: Span) -> Result<(Target, f64), Diagnostic> {
+        let target = match target {
+            Param::Numbered(index) => {
+                let number = expr::number(index, &self.store, span)?;
+                system_parameter(number, span)?;
+                Target::Numbered(number)
+            }
+            Param::Named(name) => Target::Named(name.clone()),
+        };
+        Ok((target, self.evaluate(value, span)?))
+    }
+
+    /// Runs a plain line: its words' values, then its assignments.
+    fn run_line(&mut self, line: &Line) {
+        let mut tokens = Vec::with_capacity(line.items.len());
+        let mut assignments = Vec::new();
+        let mut failed = None;
+        let mut skipped = false;
+        for item in &line.items {
+            match item {
+                Piece::Lexed(Lexed::Diagnostic(diagnostic)) => {
+                    self.out.push_back(Lexed::Diagnostic(diagnostic.clone()))
+                }
+                _ if failed.is_some() || skipped => {}
+                Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
+                Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
+                    Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span: *span }),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
+                Piece::Macro(Macro::Assign { target, value }, span) => match self.assignment(target, value, *span) {
+                    Ok((target, value)) => assignments.push((target, value, *span)),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
+                Piece::Macro(Macro::Guard(condition), span) => match self.evaluate(condition, *span) {
+                    // IF [c] THEN: the rest of the line is passed over.
+                    Ok(0.0) => skipped = true,
+                    Ok(_) => {}
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
+                // A plain line has no control piece: `read` takes those.
+                Piece::Macro(Macro::Control(_), _) => {}
+            }
+        }
+        if let (None, Some(span)) = (&failed, alarm(&assignments)) {
+            failed = Some(self.alarm(line, &assignments, span));
+        }
+        match failed {
+            Some(diagnostic) => self.error(diagnostic),
+            None => {
+                self.out.extend(tokens.into_iter().map(Lexed::Token));
+                for (target, value, _) in assignments {
+                    self.store.set(target, value);
+                }
+            }
+        }
+        self.out.extend(line.end.clone().map(Lexed::Token));
+    }
+
+    /// Fanuc's `#3000 = n (MESSAGE)`: the program stops with an alarm.
+    fn alarm(&self, line: &Line, assignments: &[(Target, f64, Span)], at: Span) -> Diagnostic {
+        let number =
+            assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(ALARM))).map_or(0.0, |a| a.1);
+        let text = line.items.iter().find_map(|item| match item {
+            Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Comment(text), .. })) => Some(text.trim()),
+            _ => None,
+        });
+        let message = format!("the program raises alarm {number}: {}", text.unwrap_or("(no message)"));
+        Diagnostic::error(at, message)
+            .with_help("a Fanuc control stops here (#3000): ger ends the translation's output of this line")
+    }
+
+    /// A line read from the program: run it, or keep it in the block being read.
+    fn read(&mut self, line: Line) {
+        let Some(control) = line.control().cloned() else {
+            return self.add(Node::Line(line));
+        };
+        // The line's diagnostics and end still go out, in their place.
+        if let Err(diagnostic) = self.structure(control) {
+            self.error(diagnostic);
+        }
+        for item in line.items {
+            if let Piece::Lexed(diagnostic @ Lexed::Diagnostic(_)) = item {
+                self.out.push_back(diagnostic);
+            }
+        }
+        self.out.extend(line.end.map(Lexed::Token));
+    }
+
+    /// Opens, continues or closes a block at a control line.
+    fn structure(&mut self, control: Control) -> Result<(), Diagnostic> {
+        let closes = |open: &Open, keywords: &[Keyword]| {
+            open.head.label == control.label && keywords.contains(&open.head.keyword)
+        };
+        match control.keyword {
+            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat => self.open_block(control),
+            Keyword::While if !self.open.last().is_some_and(|open| closes(open, &[Keyword::Do])) => {
+                self.open_block(control)
+            }
+            Keyword::Call | Keyword::Return | Keyword::Break | Keyword::Continue => self.add(Node::Simple(control)),
+            Keyword::ElseIf | Keyword::Else => {
+                let open = self.open.last_mut().filter(|open| closes(open, &[Keyword::If, Keyword::ElseIf]));
+                let Some(open) = open else { return Err(unmatched(&control)) };
+                let body: Body = std::mem::take(&mut open.nodes).into();
+                let head = std::mem::replace(&mut open.head, control);
+                open.branches.push((head, body));
+            }
+            _ => {
+                let wanted: &[Keyword] = match control.keyword {
+                    Keyword::EndSub => &[Keyword::Sub],
+                    Keyword::EndIf => &[Keyword::If, Keyword::ElseIf, Keyword::Else],
+                    Keyword::EndWhile => &[Keyword::While],
+                    Keyword::EndRepeat => &[Keyword::Repeat],
+                    _ => &[Keyword::Do],
+                };
+                if !self.open.last().is_some_and(|open| closes(open, wanted)) {
+                    return Err(unmatched(&control));
+                }
+                let mut open = self.open.pop().expect("checked just above");
+                if control.keyword == Keyword::EndSub && !control.args.is_empty() {
+                    open.nodes.push(Node::Simple(Control { keyword: Keyword::Return, ..control.clone() }));
+                }
+                let body: Body = open.nodes.into();
+                let node = match control.keyword {
+                    Keyword::EndSub => Node::Sub(Rc::new(Sub { head: open.head, body })),
+                    Keyword::EndIf => {
+                        let mut branches = open.branches;
+                        branches.push((open.head, body));
+                        Node::If(branches)
+                    }
+                    Keyword::While => Node::Loop(Rc::new(Loop { head: open.head, until: Some(control), body })),
+                    _ => Node::Loop(Rc::new(Loop { head: open.head, until: None, body })),
+                };
+                self.add(node);
+            }
+        }
+        Ok(())
+    }
+
+    fn open_block(&mut self, head: Control) {
+        self.open.push(Open { head, nodes: Vec::new(), branches: Vec::new() });
+    }
+
+    /// A node read: into the block being read, or run now.
+    fn add(&mut self, node: Node) {
+        match self.open.last_mut() {
+            Some(open) => open.nodes.push(node),
+            None => {
+                let body: Body = Rc::new([node]);
+                self.frames.push(Frame { body, next: 0, kind: FrameKind::Branch });
+            }
+        }
+    }
+
+    /// Runs the next node of the innermost body; false when nothing runs.
+    fn step(&mut self) -> bool {
+        let Some(frame) = self.frames.last_mut() else { return false };
+        if frame.next == frame.body.len() {
+            self.end_of_body();
+            return true;
+        }
+        let body = frame.body.clone();
+        let node = &body[frame.next];
+        frame.next += 1;
+        match node {
+            Node::Line(line) => self.run_line(line),
+            Node::Sub(sub) => {
+                self.subs.insert(sub.head.label.clone(), sub.clone());
+            }
+            Node::If(branches) => {
+                for (head, body) in branches {
+                    match head.args.first().map(|condition| self.evaluate(condition, head.span)) {
+                        Some(Err(diagnostic)) => return self.fail(diagnostic),
+                        Some(Ok(0.0)) => continue,
+                        _ => {}
+                    }
+                    self.frames.push(Frame { body: body.clone(), next: 0, kind: FrameKind::Branch });
+                    break;
+                }
+            }
+            Node::Loop(block) => self.enter(block.clone()),
+            Node::Simple(control) => self.simple(control),
+        }
+        true
+    }
+
+    /// Reports an error of the running body.
+    fn fail(&mut self, diagnostic: Diagnostic) -> bool {
+        self.error(diagnostic);
+        true
+    }
+
+    fn enter(&mut self, block: Rc<Loop>) {
+        let head = &block.head;
+        let remaining = match head.keyword {
+            Keyword::While => match self.evaluate(&head.args[0], head.span) {
+                Ok(condition) if condition != 0.0 => 1,
+                Ok(_) => 0,
+                Err(diagnostic) => return self.error(diagnostic),
+            },
+            Keyword::Repeat => match self.evaluate(&head.args[0], head.span) {
+                Ok(count) => count.max(0.0).round() as u64,
+                Err(diagnostic) => return self.error(diagnostic),
+            },
+            _ => 1,
+        };
+        if remaining > 0 {
+            let body = block.body.clone();
+            self.frames.push(Frame { body, next: 0, kind: FrameKind::Loop { block, iterations: 0, remaining } });
+        }
+    }
+
+    /// The innermost body has run to its end.
+    fn end_of_body(&mut self) {
+        let frame = self.frames.last_mut().expect("a body is running");
+        match &mut frame.kind {
+            FrameKind::Branch => {
+                self.frames.pop();
+            }
+            FrameKind::Call { .. } => self.leave_call(),
+            FrameKind::Loop { block, iterations, remaining } => {
+                *iterations += 1;
+                let block = block.clone();
+                let again = match (&block.until, block.head.keyword) {
+                    (_, Keyword::Repeat) => {
+                        *remaining -= 1;
+                        Ok(*remaining > 0)
+                    }
+                    (Some(until), _) => self.evaluate(&until.args[0], until.span).map(|c| c != 0.0),
+                    (None, _) => self.evaluate(&block.head.args[0], block.head.span).map(|c| c != 0.0),
+                };
+                let frame = self.frames.last_mut().expect("a body is running");
+                let FrameKind::Loop { iterations, .. } = frame.kind else { unreachable!("matched above") };
+                match again {
+                    Ok(true) if iterations >= self.max_iterations => {
+                        self.frames.pop();
+                        let message =
+                            format!("{} ran {iterations} times without ending: stopped", block.head.describe());
+                        let help = "raise [machine] max_iterations in ger.toml if it is meant to run longer";
+                        self.error(Diagnostic::error(block.head.span, message).with_help(help));
+                    }
+                    Ok(true) => frame.next = 0,
+                    Ok(false) => {
+                        self.frames.pop();
+                    }
+                    Err(diagnostic) => {
+                        self.frames.pop();
+                        self.error(diagnostic);
+                    }
+                }
+            }
+        }
+    }
+
+    fn leave_call(&mut self) {
+        self.frames.pop();
+        self.store.levels.pop();
+    }
+
+    fn simple(&mut self, control: &Control) {
+        match control.keyword {
+            Keyword::Call => self.call(control),
+            Keyword::Return => {
+                if let Some(value) = control.args.first() {
+                    match self.evaluate(value, control.span) {
+                        Ok(value) => {
+                            self.store.named.insert(RETURNED.to_string(), value);
+                        }
+                        Err(diagnostic) => self.error(diagnostic),
+                    }
+                }
+                if !self.frames.iter().any(|frame| matches!(frame.kind, FrameKind::Call { .. })) {
+                    let message = format!("{} return is not in a subroutine", control.name());
+                    return self.error(Diagnostic::error(control.span, message));
+                }
+                while let Some(frame) = self.frames.last() {
+                    if matches!(frame.kind, FrameKind::Call { .. }) {
+                        return self.leave_call();
+                    }
+                    self.frames.pop();
+                }
+            }
+            _ => {
+                // break and continue: the loop they name, inside this call.
+                let found = self.frames.iter().rev().position(|frame| match &frame.kind {
+                    FrameKind::Loop { block, .. } => block.head.label == control.label,
+                    FrameKind::Call { .. } => true,
+                    FrameKind::Branch => false,
+                });
+                let at = found.map(|from_top| self.frames.len() - 1 - from_top);
+                let Some(at) = at.filter(|&at| matches!(self.frames[at].kind, FrameKind::Loop { .. })) else {
+                    let message = format!("{} is not in a loop {}", control.describe(), control.name());
+                    return self.error(Diagnostic::error(control.span, message));
+                };
+                self.frames.truncate(at + 1);
+                let frame = self.frames.last_mut().expect("the loop is there");
+                if control.keyword == Keyword::Break {
+                    self.frames.pop();
+                } else {
+                    frame.next = frame.body.len();
+                }
+            }
+        }
+    }
+
+    fn call(&mut self, control: &Control) {
+        if !self.subs.contains_key(&control.label) && !self.look_ahead_for(&control.label) {
+            let message = format!("{} is called but never defined", control.name());
+            let help = "define the subroutine in the program: o100 sub ... o100 endsub";
+            return self.error(Diagnostic::error(control.span, message).with_help(help));
+        }
+        let sub = self.subs[&control.label].clone();
+        if self.store.levels.len() > MAX_CALL_DEPTH {
+            let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
+            return self.error(Diagnostic::error(control.span, message));
+        }
+        let mut locals = Locals::default();
+        for (slot, arg) in locals.numbered.iter_mut().zip(&control.args) {
+            match self.evaluate(arg, control.span) {
+                Ok(value) => *slot = value,
+                Err(diagnostic) => return self.error(diagnostic),
+            }
+        }
+        let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
+        self.store.levels.push(locals);
+        self.frames.push(Frame { body: sub.body.clone(), next: 0, kind: FrameKind::Call { origin } });
+    }
+
+    /// The next line from the lexer, whole; `None` at the program's end.
+    fn next_line(&mut self) -> Option<Line> {
+        loop {
+            match self.tokens.next() {
+                Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
+                    let mut line = std::mem::take(&mut self.line);
+                    line.end = Some(token);
+                    return Some(line);
+                }
+                Some(item) => self.line.items.push(item),
+                None => {
+                    let line = std::mem::take(&mut self.line);
+                    return (!line.items.is_empty()).then_some(line);
+                }
+            }
+        }
+    }
+
+    /// Reads on to the definition of a subroutine called above it, as
+    /// LinuxCNC does; the lines passed over wait in `ahead` for their turn
+    /// (so a program whose subroutines follow its main part holds the rest
+    /// of that part meanwhile). True if it was found.
+    fn look_ahead_for(&mut self, label: &str) -> bool {
+        while let Some(line) = self.next_line() {
+            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label);
+            if !defines {
+                self.ahead.push_back(line);
+                continue;
+            }
+            // The definition is read as any block; closed, it is a frame that
+            // would define it when run: it is defined now instead.
+            self.read(line);
+            while !self.open.is_empty() {
+                let Some(line) = self.next_line() else { break };
+                self.read(line);
+            }
+            let defined = self.frames.last().and_then(|frame| match &frame.body[..] {
+                [Node::Sub(sub)] if matches!(frame.kind, FrameKind::Branch) => Some(sub.clone()),
+                _ => None,
+            });
+            if let Some(sub) = defined {
+                self.frames.pop();
+                self.subs.insert(sub.head.label.clone(), sub);
+            }
+            return self.subs.contains_key(label);
+        }
+        false
+    }
+
+    /// The end of the program: blocks never closed are errors at their head.
+    fn finish(&mut self) {
+        for open in std::mem::take(&mut self.open) {
+            let message = format!("{} is never closed", open.head.describe());
+            self.error(Diagnostic::error(open.head.span, message));
+        }
+    }
+}
+
+/// Fanuc's alarm parameter: setting it stops the program with a message.
+const ALARM: u32 = 3000;
+
+/// Where a line sets the alarm, if it does.
+fn alarm(assignments: &[(Target, f64, Span)]) -> Option<Span> {
+    assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(ALARM))).map(|(_, _, span)| *span)
+}
+
+fn unmatched(control: &Control) -> Diagnostic {
+    let message = format!("{} has no block {} to belong to", control.describe(), control.name());
+    Diagnostic::error(control.span, message).with_help("an O-word block opens and closes with the same number")
+}
+
+impl<L: Iterator<Item = Piece>> Iterator for Interpreter<L> {
+    type Item = Lexed;
+
+    fn next(&mut self) -> Option<Lexed> {
+        loop {
+            if let Some(lexed) = self.out.pop_front() {
+                return Some(lexed);
+            }
+            if self.step() {
+                continue;
+            }
+            if let Some(line) = self.ahead.pop_front() {
+                self.read(line);
+                continue;
+            }
+            if self.done {
+                return None;
+            }
+            match self.next_line() {
+                Some(line) => self.read(line),
+                None => {
+                    self.done = true;
+                    self.finish();
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::Config;
+    use crate::passes::testing::run_with;
+    use crate::statement::{Dialect, Units};
+
+    /// The program after pass 04, in millimetres, in the lenient dialect.
+    fn flat(text: &str) -> Vec<String> {
+        let config = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        run_with(&format!("G21\n{text}"), &config, 4).into_iter().filter(|line| !line.contains("G21")).collect()
+    }
+
+    #[test]
+    fn words_take_expressions_and_parameters() {
+        // Values worked out by hand: 10*cos(60°) = 5, atan2(1, -1) = 135°.
+        assert_eq!(
+            flat("#1 = 2\n#<depth> = -1.5\nG01 X[#1 + 10*COS[60]] Y[ATAN[1]/[-1]] Z#<depth> F[#1*100]"),
+            ["G01 X7.000 Y135.000 Z-1.500 F200.000"]
+        );
+        // A sign before a parameter, a function as a word's value, indirection.
+        assert_eq!(
+            flat("#3 = 4\n#4 = 7\n#5 = 3\nG01 X-#3 YSQRT[16] Z#[#5 + 1] F10"),
+            ["G01 X-4.000 Y4.000 Z7.000 F10.000"]
+        );
+        // Fanuc's unbracketed value; a name read without spaces, in lower case.
+        assert_eq!(flat("#<Feed Rate> = 100 + 20\nG01 X1 F#<feedrate>"), ["G01 X1.000 F120.000"]);
+    }
+
+    #[test]
+    fn reads_on_a_line_come_before_its_assignments() {
+        // rs274 moves this to X0: `#1 = 2` takes effect at the end of the line.
+        assert_eq!(flat("#1 = 2 #2 = #1 G01 X#1 F10\nG01 Y#1 Z#2"), ["G01 X0.000 F10.000", "G01 Y2.000 Z0.000"]);
+    }
+
+    #[test]
+    fn an_unset_numbered_parameter_is_zero_and_an_unset_name_an_error() {
+        assert_eq!(flat("G01 X#7 Y1 F10"), ["G01 X0.000 Y1.000 F10.000"]);
+        // rs274 reads #<_value> as 0 before any subroutine returns.
+        assert_eq!(flat("G01 X#<_value> Y1 F10"), ["G01 X0.000 Y1.000 F10.000"]);
+        assert_eq!(
+            flat("G01 X#<nothing> F10\nG01 Y2 F10"),
+            ["2:6: error: the parameter #<nothing> is not set", "G01 Y2.000 F10.000"]
+        );
+        assert_eq!(flat("#<_done> = 1\nG01 X[EXISTS[#<_done>] + EXISTS[#<other>]] F10"), ["G01 X1.000 F10.000"]);
+        // As rs274 reads LinuxCNC's exists test: a numbered one exists if its number is one.
+        assert_eq!(
+            flat("#1 = 2\n#2 = 99999\nG01 X[EXISTS[##1]] Y[EXISTS[##2]] Z[EXISTS[###1]] F10"),
+            ["G01 X1.000 Y0.000 Z0.000 F10.000"]
+        );
+        // ...but reading #99999 to find the number is an error, as rs274 says of LinuxCNC's exists-3.ngc.
+        let out = flat("#2 = 99999\nG0 X EXISTS[###2]\nM2");
+        assert!(out[0].starts_with("3:") && out[0].contains("there is no parameter #99999"), "{out:?}");
+    }
+
+    #[test]
+    fn evaluation_errors_are_at_their_column_and_drop_the_line() {
+        let cases = [
+            ("G01 X[1/0] F10", "2:8: error: division by zero"),
+            ("G01 X[SQRT[-1]] F10", "2:7: error: SQRT of a negative number"),
+            ("G01 X[ACOS[2]] F10", "2:7: error: ACOS takes a number from -1 to 1"),
+            ("G01 X[LN[0]] F10", "2:7: error: LN takes a number above zero"),
+            ("G01 X[[-2] ** 0.5] F10", "2:12: error: a negative number raised to a fractional power"),
+            ("G01 X[1 MOD 0] F10", "2:9: error: division by zero"),
+            (
+                "G01 X[10 ** 20] F10",
+                "2:5: error: this works out to 100000000000000000000: ger reads numbers up to 10^12",
+            ),
+            ("#5221 = 1", "2:1: error: #5221 is one of LinuxCNC's system parameters, which ger does not compute"),
+            ("G01 X#0", "2:6: error: there is no parameter #0: they are #1 to #5602"),
+            ("G01 X#1.5", "2:6: error: a parameter's number must be whole, not 1.5"),
+            ("G01 X[1 + ] F10", "2:11: error: expected a value: a number, a parameter, `[expression]` or a function"),
+            ("G01 X[1 + 2 F10", "2:13: error: expected `]` to close the `[`"),
+            ("G01 X[FOO[1]] F10", "2:7: error: `FOO` is not a function"),
+            ("#1 X2", "2:1: error: a parameter here is set: write `#1 = value`"),
+        ];
+        for (line, error) in cases {
+            let got = flat(&format!("{line}\nG01 Y2 F10"));
+            assert_eq!(got[0], error, "{line}");
+            assert_eq!(got[1..], ["G01 Y2.000 F10.000"], "{line}");
+        }
+    }
+
+    #[test]
+    fn the_strict_dialect_refuses_parameters_with_a_hint() {
+        let got = run_with("#1 = 2", &Config::default(), 4);
+        assert_eq!(got, ["1:1: error: parameters (`#1`, `#<name>`) are not supported: ger has no variables"]);
+        let Some(crate::lex::Lexed::Diagnostic(diagnostic)) = crate::lex::lex_str("#1 = 2").next() else {
+            panic!("the strict lexer read a parameter")
+        };
+        assert!(diagnostic.help.unwrap().contains("--lenient"));
+    }
+
+    #[test]
+    fn subroutines_take_arguments_in_their_own_locals() {
+        // As rs274 runs it: the call's #1..#3 are its arguments (unset ones 0),
+        // the caller's #1 comes back after it, #40 is global, and
+        // `return [value]` leaves the value in #<_value>.
+        let program =
+            "#1 = 7\no100 sub\nG01 X#1 Y#2 Z#3 F10\n#1 = 9 #40 = 1\no100 return [#1 * 2]\nG01 X99\no100 endsub\n\
+                       o100 call [3] [4]\nG01 X#1 Y#<_value> Z#40";
+        assert_eq!(flat(program), ["G01 X3.000 Y4.000 Z0.000 F10.000", "G01 X7.000 Y18.000 Z1.000"]);
+        // A named local of the caller is not seen in the call.
+        let got = flat("#<here> = 1\no<show> sub\nG01 X#<here> F10\no<show> endsub\no<show> call");
+        assert_eq!(got, ["4:6: error: the parameter #<here> is not set"]);
+        assert_eq!(
+            flat("o100 call\nG01 X1 F10"),
+            ["2:1: error: o100 is called but never defined", "G01 X1.000 F10.000"]
+        );
+        // A subroutine defined below its call is read ahead for, as LinuxCNC
+        // does; what it passed over runs after the call, in order.
+        assert_eq!(
+            flat("G01 F10\no100 call [3]\nG01 Y1\no100 call [4]\nM30\no100 sub\nG01 X#1\no100 endsub"),
+            ["G01 X3.000 F10.000", "G01 Y1.000", "G01 X4.000", "M30"]
+        );
+    }
+
+    #[test]
+    fn loops_run_their_bodies_and_stream() {
+        // `o101 end while`: LinuxCNC reads past the space.
+        let whiles = "#1 = 0\no101 while [#1 LT 3]\nG01 X#1 F10\n#1 = [#1 + 1]\no101 end while";
+        assert_eq!(flat(whiles), ["G01 X0.000 F10.000", "G01 X1.000", "G01 X2.000"]);
+        // do-while runs once before its test; repeat its count.
+        let dos = "#1 = 5\no102 do\nG01 X#1 F10\n#1 = [#1 + 1]\no102 while [#1 LT 3]\no103 repeat [2]\nG01 Y1\nG01 Y0\no103 endrepeat";
+        assert_eq!(flat(dos), ["G01 X5.000 F10.000", "G01 Y1.000", "G01 Y0.000", "G01 Y1.000", "G01 Y0.000"]);
+        // break and continue name the loop they leave or go on with.
+        let flow = "#1 = 0\no1 while [1]\n#1 = [#1 + 1]\no2 if [#1 EQ 2]\no1 continue\no2 elseif [#1 GT 3]\no1 break\no2 else\nG01 X#1 F10\no2 endif\no1 endwhile";
+        assert_eq!(flat(flow), ["G01 X1.000 F10.000", "G01 X3.000"]);
+    }
+
+    #[test]
+    fn a_loop_that_does_not_end_is_stopped_at_its_head() {
+        let config = Config {
+            dialect: crate::config::DialectConfig { max_iterations: 5, ..Dialect::Lenient.into() },
+            units: Units::Mm,
+            ..Config::default()
+        };
+        let got = run_with("G21 G01 F10\no7 while [1]\nG01 X1\nG01 X0\no7 endwhile\nG01 Y1", &config, 4);
+        assert_eq!(got.iter().filter(|line| line.contains("X1.000")).count(), 5);
+        assert_eq!(got[got.len() - 2], "2:1: error: o7 while ran 5 times without ending: stopped");
+        assert_eq!(got[got.len() - 1], "G01 Y1.000");
+        // A recursion is stopped too, and an error inside a call says where it ran.
+        let got = flat("o8 sub\no8 call\no8 endsub\no8 call\nG01 X1 F10");
+        assert_eq!(got[0], "3:1: error: calls nest more than 100 deep: a recursion that does not end?");
+        let program = "o9 sub\nG01 X[1/#1] F10\no9 endsub\no9 call [0]";
+        let config = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let library = crate::passes::Library::scanning(Default::default);
+        let options = crate::passes::Options { config: &config, stage: 4, wizards: &mut crate::wizard::NoWizards };
+        let diagnostic = crate::passes::translate(program.as_bytes(), library, options)
+            .find_map(|event| match event {
+                crate::passes::Event::Diagnostic(diagnostic) => Some(diagnostic),
+                _ => None,
+            })
+            .unwrap();
+        assert_eq!(diagnostic.to_string(), "2:8: error: division by zero");
+        assert_eq!(diagnostic.call_chain(), ["in o9 called at line 4"]);
+    }
+
+    #[test]
+    fn blocks_must_close_with_their_own_number() {
+        assert_eq!(
+            flat("o1 if [1]\nG01 X1 F10\no2 endif"),
+            ["4:1: error: o2 endif has no block o2 to belong to", "2:1: error: o1 if is never closed"]
+        );
+        assert_eq!(flat("o1 while [1] [2]"), ["2:10: error: `while` takes one [condition]"]);
+    }
+
+    /// A Fanuc macro B program and its twin flattened by hand translate to
+    /// the same moves (N numbers aside: they name different lines).
+    fn same_as_twin(macro_b: &str, twin: &str) {
+        let strip = |lines: Vec<String>| -> Vec<String> {
+            lines
+                .into_iter()
+                .map(|line| line.split_once(' ').map_or(line.clone(), |(_, rest)| rest.to_string()))
+                .collect()
+        };
+        let config = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let got = crate::passes::testing::run_with(macro_b, &config, 5);
+        assert!(got.iter().all(|line| !line.contains("error")), "{got:?}");
+        assert_eq!(
+            strip(got),
+            strip(crate::passes::testing::run_with(twin, &Config { units: Units::Mm, ..Config::default() }, 5))
+        );
+    }
+
+    #[test]
+    fn fanuc_while_loops_and_if_then_flatten_as_written_out() {
+        // Three passes down in 1 mm steps, then a move made only if a flag is set.
+        same_as_twin(
+            "G21 G90\n#100 = 0\n#101 = 3\nWHILE [#100 LT #101] DO1\n#100 = #100 + 1\nG01 X10 Z-#100 F100\nG00 X0\nEND1\n\
+             #102 = 1\nIF [#102 EQ 1] THEN #103 = 25\nIF [#102 EQ 0] THEN #103 = 50\nG00 Y#103\nM30",
+            "G21 G90\nG01 X10 Z-1 F100\nG00 X0\nG01 X10 Z-2\nG00 X0\nG01 X10 Z-3\nG00 X0\nG00 Y25\nM30",
+        );
+        // Nested loops, DO1 around DO2.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 2] DO1\n#2 = 0\nWHILE [#2 LT 2] DO2\nG01 X#2 Y#1\n#2 = #2 + 1\nEND2\n#1 = #1 + 1\nEND1\nM30",
+            "G21 G90 F50\nG01 X0 Y0\nG01 X1 Y0\nG01 X0 Y1\nG01 X1 Y1\nM30",
+        );
+    }
+
+    #[test]
+    fn a_fanuc_alarm_is_an_error_at_its_line() {
+        assert_eq!(
+            flat("#3000 = 12 (TOOL TOO SHORT)\nG01 X1 F10"),
+            ["2:1: error: the program raises alarm 12: TOOL TOO SHORT", "G01 X1.000 F10.000"]
+        );
+        assert_eq!(
+            flat("WHILE [1] DO1\nEND2"),
+            ["3:1: error: END2 has no block DO2 to belong to", "2:1: error: WHILE ... DO1 is never closed"]
+        );
+    }
+}
