@@ -200,6 +200,8 @@ pub struct Interpreter<L> {
     /// Lines read ahead to find a subroutine, to be run in their turn.
     ahead: VecDeque<Line>,
     max_iterations: u64,
+    /// An error came while a loop ran: the loops stop before the next step.
+    stop_loops: bool,
     out: VecDeque<Lexed>,
     done: bool,
 }
@@ -215,6 +217,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             subs: HashMap::new(),
             ahead: VecDeque::new(),
             max_iterations,
+            stop_loops: false,
             out: VecDeque::new(),
             done: false,
         }
@@ -230,7 +233,37 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     fn error(&mut self, diagnostic: Diagnostic) {
         let diagnostic = diagnostic.with_origin(self.origin());
+        self.diagnostic(diagnostic);
+    }
+
+    /// Every diagnostic of the running program goes out here. An error in a
+    /// loop stops it, as LinuxCNC stops the program at its first error: the
+    /// same error is not said once an iteration, a million times.
+    fn diagnostic(&mut self, diagnostic: Diagnostic) {
+        if diagnostic.is_error() && self.frames.iter().any(|frame| matches!(frame.kind, FrameKind::Loop { .. })) {
+            self.stop_loops = true;
+        }
         self.out.push_back(Lexed::Diagnostic(diagnostic));
+    }
+
+    /// Leaves the outermost loop running and everything it runs, saying where it stopped.
+    fn stop_at_error(&mut self) {
+        self.stop_loops = false;
+        let Some(outermost) = self.frames.iter().position(|frame| matches!(frame.kind, FrameKind::Loop { .. })) else {
+            return;
+        };
+        let FrameKind::Loop { block, iterations, .. } = &self.frames[outermost].kind else {
+            unreachable!("found above")
+        };
+        let (head, iteration) = (block.head.clone(), iterations + 1);
+        for frame in self.frames.drain(outermost..) {
+            if matches!(frame.kind, FrameKind::Call { .. }) {
+                self.store.levels.pop();
+            }
+        }
+        let message = format!("{} stopped at the error above, in its iteration {iteration}", head.describe());
+        let help = "an error ends the loop it is in, and the loops around it; the program goes on after them";
+        self.error(Diagnostic::error(head.span, message).with_help(help));
     }
 
     fn evaluate(&self, expr: &Expr, span: Span) -> Result<f64, Diagnostic> {
@@ -262,9 +295,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         let mut skipped = false;
         for item in &line.items {
             match item {
-                Piece::Lexed(Lexed::Diagnostic(diagnostic)) => {
-                    self.out.push_back(Lexed::Diagnostic(diagnostic.clone()))
-                }
+                Piece::Lexed(Lexed::Diagnostic(diagnostic)) => self.diagnostic(diagnostic.clone()),
                 _ if failed.is_some() || skipped => {}
                 Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
                 Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
@@ -397,6 +428,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// Runs the next node of the innermost body; false when nothing runs.
     fn step(&mut self) -> bool {
+        if self.stop_loops {
+            self.stop_at_error();
+        }
         let Some(frame) = self.frames.last_mut() else { return false };
         if frame.next == frame.body.len() {
             self.end_of_body();
@@ -796,6 +830,25 @@ mod tests {
         // break and continue name the loop they leave or go on with.
         let flow = "#1 = 0\no1 while [1]\n#1 = [#1 + 1]\no2 if [#1 EQ 2]\no1 continue\no2 elseif [#1 GT 3]\no1 break\no2 else\nG01 X#1 F10\no2 endif\no1 endwhile";
         assert_eq!(flat(flow), ["G01 X1.000 F10.000", "G01 X3.000"]);
+    }
+
+    #[test]
+    fn an_error_in_a_loop_stops_it_once_and_the_program_goes_on() {
+        // Without the rule, this would say the division by zero 1,000,000 times (the loop never ends).
+        let program = "#1 = 0\no1 while [1]\no2 repeat [3]\nG01 X[1/#1] F10\no2 endrepeat\no1 endwhile\nG01 Y1 F10";
+        let got = flat(program);
+        assert_eq!(got.len(), 3, "{got:?}");
+        assert!(got[0].starts_with("5:") && got[0].contains("division by zero"), "{got:?}");
+        assert!(got[1].starts_with("3:1: error: o1 while stopped at the error above, in its iteration 1"), "{got:?}");
+        assert_eq!(got[2], "G01 Y1.000 F10.000");
+        // A lexer's error in a loop's line (the line is mangled), and one inside a call the loop makes.
+        let got = flat("#1 = 0\no1 while [#1 LT 5]\n#< Y1\n#1 = [#1 + 1]\no1 endwhile\nG01 X#1 F10");
+        assert_eq!(got.iter().filter(|l| l.contains("error")).count(), 2, "{got:?}");
+        // Stopped at the mangled line, before the increment after it.
+        assert_eq!(got.last().unwrap(), "G01 X0.000 F10.000", "{got:?}");
+        let got = flat("o9 sub\nG01 X[1/0] F10\no9 endsub\no1 repeat [100]\no9 call\no1 endrepeat\nG01 Y2 F10");
+        assert_eq!(got.iter().filter(|l| l.contains("error")).count(), 2, "{got:?}");
+        assert_eq!(got.last().unwrap(), "G01 Y2.000 F10.000", "{got:?}");
     }
 
     #[test]
