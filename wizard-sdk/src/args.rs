@@ -118,6 +118,24 @@ impl Args {
         Ok(n as u32)
     }
 
+    /// Which of `choices` argument `i` names, as its index; the first when
+    /// it is left out. Anything else is an error that lists them.
+    pub fn choice(&self, i: usize, choices: &[&str]) -> Result<usize, String> {
+        if self.args.get(i).is_none() {
+            return Ok(0);
+        }
+        let given = self.text(i)?;
+        choices.iter().position(|c| *c == given).ok_or_else(|| {
+            let quoted: Vec<String> = choices.iter().map(|c| format!("\"{c}\"")).collect();
+            let list = match quoted.split_last() {
+                Some((last, [])) => last.clone(),
+                Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+                None => String::new(),
+            };
+            format!("{} is {list}, not \"{given}\"", self.what(i))
+        })
+    }
+
     /// A text argument (written in double quotes).
     pub fn text(&self, i: usize) -> Result<&str, String> {
         match self.args.get(i) {
@@ -157,6 +175,22 @@ mod tests {
         assert_eq!(a.text(0), Err("LENGTH (argument 1) must be a text in double quotes, not the number 75".into()));
         assert_eq!(a.whole(0, 1), Ok(75));
         assert!(a.whole(2, 1).unwrap_err().contains("whole number of at least 1"));
+    }
+
+    #[test]
+    fn a_choice_is_one_of_its_words_or_the_first_when_left_out() {
+        let d = Description::new("Profile", "", "Profile DEPTH [SIDE]").param("DEPTH", "").optional("SIDE", "");
+        let sides = ["outside", "inside", "on"];
+        assert_eq!(Args::for_test(vec![Arg::Number(1.0)], &d).choice(1, &sides), Ok(0));
+        let inside = Args::for_test(vec![Arg::Number(1.0), Arg::Text("inside".into())], &d);
+        assert_eq!(inside.choice(1, &sides), Ok(1));
+        let round = Args::for_test(vec![Arg::Number(1.0), Arg::Text("round".into())], &d);
+        assert_eq!(
+            round.choice(1, &sides),
+            Err("SIDE (argument 2) is \"outside\", \"inside\" or \"on\", not \"round\"".into())
+        );
+        let number = Args::for_test(vec![Arg::Number(1.0), Arg::Number(2.0)], &d);
+        assert!(number.choice(1, &sides).unwrap_err().contains("must be a text in double quotes"));
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The machine state at a call, as plain Rust types.
 
 use crate::__bindings::ger::wizard::types as wit;
+use crate::block::{g, Statement};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Units {
@@ -69,6 +70,30 @@ impl State {
         self.tool
             .as_ref()
             .ok_or_else(|| format!("tool T{} is not in the tool table, so its diameter is unknown", self.tool_number))
+    }
+
+    /// The loaded tool, which must cut sideways (not a drill): `job` says
+    /// what needs it, e.g. "a pocket needs an end mill".
+    pub fn require_cutter(&self, job: &str) -> Result<&Tool, String> {
+        let tool = self.require_tool()?;
+        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
+            return Err(format!("T{} is a drill; {job}", tool.number));
+        }
+        Ok(tool)
+    }
+
+    /// `moves`, written in absolute coordinates, as a call may return them
+    /// whatever its distance mode: between G90 and G91 when the call was
+    /// made in G91, so the program goes on as it was.
+    pub fn in_absolute(&self, moves: Vec<Statement>) -> Vec<Statement> {
+        if self.distance == Distance::Absolute {
+            return moves;
+        }
+        let mut out = Vec::with_capacity(moves.len() + 2);
+        out.push(g(90).into());
+        out.extend(moves);
+        out.push(g(91).into());
+        out
     }
 }
 

@@ -41,18 +41,12 @@ impl Wizard for BoltCircle {
         let [cx, cy, top] = state.position;
         let hole = Hole::new(top, top - depth, feed, pecking)?;
         let mut out = vec![comment(format!("BoltCircle: {count} holes on diameter {}", radius * 2.0))];
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         for n in 0..count {
             let angle = (start + 360.0 * f64::from(n) / f64::from(count)).to_radians();
             out.extend(hole.at(cx + radius * angle.cos(), cy + radius * angle.sin()));
         }
         out.push(g0().xy(cx, cy).into());
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 

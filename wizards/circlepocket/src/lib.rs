@@ -37,12 +37,9 @@ impl Wizard for CirclePocket {
     fn expand(args: &Args, state: &State) -> Result<Vec<Statement>, String> {
         let diameter = args.positive(0)?;
         let depth = args.positive(1)?;
-        let tool = state.require_tool()?;
+        let tool = state.require_cutter("a pocket needs an end mill")?;
         let stepdown = args.optional_positive(2)?.unwrap_or(tool.diameter);
         let ramp = args.optional_positive(3)?.unwrap_or(entry::DEFAULT_ENTRY_ANGLE);
-        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
-            return Err(format!("T{} is a drill; a pocket needs an end mill", tool.number));
-        }
         let r = tool.diameter / 2.0;
         let outer = diameter / 2.0 - r;
         if outer < SMALLEST_HELIX * r {
@@ -56,7 +53,7 @@ impl Wizard for CirclePocket {
         }
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling CirclePocket")?;
         let cut = Cut { tool_diameter: tool.diameter, stepdown, ramp, feed };
-        plan(state.position, diameter, depth, &cut, state.distance)
+        plan(state.position, diameter, depth, &cut).map(|moves| state.in_absolute(moves))
     }
 }
 
@@ -70,13 +67,7 @@ pub struct Cut {
 }
 
 /// The tool path; lengths in program units, `centre` the top of the pocket's axis.
-pub fn plan(
-    centre: [f64; 3],
-    diameter: f64,
-    depth: f64,
-    cut: &Cut,
-    distance: Distance,
-) -> Result<Vec<Statement>, String> {
+pub fn plan(centre: [f64; 3], diameter: f64, depth: f64, cut: &Cut) -> Result<Vec<Statement>, String> {
     let [cx, cy, top] = centre;
     let r = cut.tool_diameter / 2.0;
     let outer = diameter / 2.0 - r;
@@ -89,9 +80,6 @@ pub fn plan(
         "CirclePocket {diameter} x {depth}: {levels} levels, a helix of radius {helix:.4} and {rings} rings, tool diameter {}",
         cut.tool_diameter
     ))];
-    if distance == Distance::Incremental {
-        out.push(g(90).into());
-    }
     let start = [cx + helix, cy];
     out.push(g0().xy(start[0], start[1]).into());
     let mut above = top;
@@ -110,9 +98,6 @@ pub fn plan(
     }
     out.push(g0().z(top).into());
     out.push(g0().xy(cx, cy).into());
-    if distance == Distance::Incremental {
-        out.push(g(91).into());
-    }
     Ok(out)
 }
 

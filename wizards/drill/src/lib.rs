@@ -27,14 +27,8 @@ impl Wizard for Drill {
         let [x, y, top] = state.position;
         let hole = Hole::new(top, top - depth, feed, pecking)?;
         let mut out = Vec::new();
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         out.extend(hole.at(x, y));
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 

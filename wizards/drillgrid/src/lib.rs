@@ -41,9 +41,6 @@ impl Wizard for DrillGrid {
         let [x0, y0, top] = state.position;
         let hole = Hole::new(top, top - depth, feed, pecking)?;
         let mut out = vec![comment(format!("DrillGrid: {columns} x {rows} holes, {xstep} x {ystep} apart"))];
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         for row in 0..rows {
             for step in 0..columns {
                 let column = if row % 2 == 0 { step } else { columns - 1 - step };
@@ -51,10 +48,7 @@ impl Wizard for DrillGrid {
             }
         }
         out.push(g0().xy(x0, y0).into());
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 

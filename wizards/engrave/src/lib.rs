@@ -38,17 +38,8 @@ impl Wizard for Engrave {
         let text = args.text(0)?;
         let height = args.positive(1)?;
         let depth = args.optional_positive(2)?.unwrap_or(height / 20.0);
-        let align = match args.get(3) {
-            None => 0.0,
-            Some(_) => match args.text(3)? {
-                "left" => 0.0,
-                "centre" | "center" => 0.5,
-                "right" => 1.0,
-                other => {
-                    return Err(format!("ALIGN (argument 4) is \"left\", \"centre\" or \"right\", not \"{other}\""))
-                }
-            },
-        };
+        // Where the current position is along the text, as a fraction of its width.
+        let align = [0.0, 0.5, 1.0, 0.5][args.choice(3, &["left", "centre", "right", "center"])?];
         let spacing = args.optional_number(4)?.unwrap_or(1.0 / 3.0);
         if spacing < 0.0 {
             return Err(format!("SPACING (argument 5) must be 0 or more, not {spacing}"));
@@ -69,9 +60,6 @@ impl Wizard for Engrave {
         let left = x0 - align * width;
         let (above, bottom) = (top + height / 4.0, top - depth);
         let mut out = vec![comment(format!("Engrave \"{text}\", {height} high, {depth} deep"))];
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         out.push(g0().z(above).into());
         for (n, strokes) in glyphs.iter().enumerate() {
             let origin = left + advance * n as f64;
@@ -89,10 +77,7 @@ impl Wizard for Engrave {
         }
         out.push(g0().xy(x0, y0).into());
         out.push(g0().z(top).into());
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 

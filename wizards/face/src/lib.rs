@@ -36,13 +36,10 @@ impl Wizard for Face {
         let length = args.positive(0)?;
         let width = args.positive(1)?;
         let depth = args.positive(2)?;
-        let tool = state.require_tool()?;
+        let tool = state.require_cutter("facing needs an end mill")?;
         let stepdown = args.optional_positive(3)?.unwrap_or(depth);
         let d = tool.diameter;
         let stepover = args.optional_positive(4)?.unwrap_or(STEPOVER * d);
-        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
-            return Err(format!("T{} is a drill; facing needs an end mill", tool.number));
-        }
         if stepover > d {
             return Err(format!(
                 "a STEPOVER of {stepover} is wider than the tool (T{}, diameter {d}): it would leave ridges",
@@ -56,9 +53,6 @@ impl Wizard for Face {
         let rows = (width / stepover).ceil() as u32 + 1;
         let levels = (depth / stepdown).ceil().max(1.0) as u32;
         let mut out = vec![comment(format!("Face {length} x {width} x {depth}: {levels} levels of {rows} rows"))];
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         out.push(g0().xy(xa, y0).into());
         let mut above = top;
         for level in 1..=levels {
@@ -77,10 +71,7 @@ impl Wizard for Face {
         }
         out.push(g0().z(top).into());
         out.push(g0().xy(x0, y0).into());
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 

@@ -35,12 +35,9 @@ impl Wizard for Pocket {
         let length = args.positive(0)?;
         let width = args.positive(1)?;
         let depth = args.positive(2)?;
-        let tool = state.require_tool()?;
+        let tool = state.require_cutter("a pocket needs an end mill")?;
         let stepdown = args.optional_positive(3)?.unwrap_or(tool.diameter);
         let ramp = args.optional_positive(4)?.unwrap_or(entry::DEFAULT_ENTRY_ANGLE);
-        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
-            return Err(format!("T{} is a drill; a pocket needs an end mill", tool.number));
-        }
         let d = tool.diameter;
         if d > length || d > width {
             return Err(format!(
@@ -56,7 +53,7 @@ impl Wizard for Pocket {
         }
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling Pocket")?;
         let cut = Cut { diameter: d, stepdown, ramp, feed };
-        plan(state.position, [length, width, depth], &cut, state.distance)
+        plan(state.position, [length, width, depth], &cut).map(|moves| state.in_absolute(moves))
     }
 }
 
@@ -70,7 +67,7 @@ pub struct Cut {
 }
 
 /// The tool path; lengths in program units, `corner` the lower-left top corner.
-pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut, distance: Distance) -> Result<Vec<Statement>, String> {
+pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement>, String> {
     let [x0, y0, top] = corner;
     let [length, width, depth] = size;
     let Cut { diameter, stepdown, ramp, feed } = *cut;
@@ -82,9 +79,6 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut, distance: Distance) -> 
     let mut out = vec![comment(format!(
         "Pocket {length} x {width} x {depth}: {levels} levels of {rows} rows, tool diameter {diameter}"
     ))];
-    if distance == Distance::Incremental {
-        out.push(g(90).into());
-    }
     out.push(g0().xy(xa, ya).into());
     // Along the first row, or up the first column of a pocket the tool's length.
     let ramp_end = if xb > xa { [xb, ya] } else { [xa, yb] };
@@ -110,9 +104,6 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut, distance: Distance) -> 
     }
     out.push(g0().z(top).into());
     out.push(g0().xy(x0, y0).into());
-    if distance == Distance::Incremental {
-        out.push(g(91).into());
-    }
     Ok(out)
 }
 

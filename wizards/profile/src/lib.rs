@@ -89,14 +89,7 @@ impl Wizard for Profile {
         let length = args.positive(0)?;
         let width = args.positive(1)?;
         let depth = args.positive(2)?;
-        let outside = match args.get(3) {
-            None => true,
-            Some(_) => match args.text(3)? {
-                "outside" => true,
-                "inside" => false,
-                other => return Err(format!("SIDE (argument 4) is \"outside\" or \"inside\", not \"{other}\"")),
-            },
-        };
+        let outside = args.choice(3, &["outside", "inside"])? == 0;
         let corner = args.optional_number(4)?.unwrap_or(0.0);
         if corner < 0.0 || corner > length.min(width) / 2.0 {
             return Err(format!(
@@ -104,11 +97,8 @@ impl Wizard for Profile {
                 length.min(width) / 2.0
             ));
         }
-        let tool = state.require_tool()?;
+        let tool = state.require_cutter("a profile needs an end mill")?;
         let stepdown = args.optional_positive(5)?.unwrap_or(tool.diameter);
-        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
-            return Err(format!("T{} is a drill; a profile needs an end mill", tool.number));
-        }
         let r = tool.diameter / 2.0;
         // Inside, a corner is as round as the tool at least.
         let inset = if outside { corner } else { corner.max(r) };
@@ -134,9 +124,6 @@ impl Wizard for Profile {
         let levels = (depth / stepdown).ceil().max(1.0) as u32;
         let side = if outside { "outside" } else { "inside" };
         let mut out = vec![comment(format!("Profile {side} {length} x {width} x {depth}: {levels} levels"))];
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         let start = path.start();
         out.push(g0().xy(start[0], start[1]).into());
         let mut above = top;
@@ -153,10 +140,7 @@ impl Wizard for Profile {
         }
         out.push(g0().z(top).into());
         out.push(g0().xy(x0, y0).into());
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 

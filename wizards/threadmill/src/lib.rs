@@ -40,22 +40,12 @@ impl Wizard for ThreadMill {
         let diameter = args.positive(0)?;
         let pitch = args.positive(1)?;
         let depth = args.positive(2)?;
-        let inside = match args.get(3) {
-            None => true,
-            Some(_) => match args.text(3)? {
-                "inside" => true,
-                "outside" => false,
-                other => return Err(format!("SIDE (argument 4) is \"inside\" or \"outside\", not \"{other}\"")),
-            },
-        };
+        let inside = args.choice(3, &["inside", "outside"])? == 0;
         let passes = if args.get(4).is_some() { args.whole(4, 1)? } else { 1 };
         if depth / pitch > MOST_TURNS {
             return Err(format!("{depth} / {pitch} is more than {MOST_TURNS} turns"));
         }
-        let tool = state.require_tool()?;
-        if matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill) {
-            return Err(format!("T{} is a drill; threads need a thread mill", tool.number));
-        }
+        let tool = state.require_cutter("threads need a thread mill")?;
         let r = tool.diameter / 2.0;
         let thread_depth = pitch * TRIANGLE * if inside { 5.0 / 8.0 } else { 17.0 / 24.0 };
         // The tool centre's radius at the full thread depth.
@@ -78,9 +68,6 @@ impl Wizard for ThreadMill {
             "ThreadMill {} M{diameter} x {pitch}, {depth} long: {passes} passes, thread depth {thread_depth:.4}",
             if inside { "inside" } else { "outside" }
         ))];
-        if state.distance == Distance::Incremental {
-            out.push(g(90).into());
-        }
         // Where the tool goes down: the axis inside, clear of the boss outside.
         let clear = if inside { 0.0 } else { first + tool.diameter };
         // Whole turns from the bottom, one pitch each, the last ending at or above the top.
@@ -102,10 +89,7 @@ impl Wizard for ThreadMill {
         }
         out.push(g0().xy(cx, cy).into());
         out.push(g0().z(top).into());
-        if state.distance == Distance::Incremental {
-            out.push(g(91).into());
-        }
-        Ok(out)
+        Ok(state.in_absolute(out))
     }
 }
 
