@@ -143,7 +143,8 @@ fn denied_check(program: &str, config: &str) -> (Option<i32>, serde_json::Value)
     std::fs::write(dir.path().join("part.ngc"), program).unwrap();
     std::fs::write(dir.path().join("ger.toml"), config).unwrap();
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
-        .args(["check", "--deny", "warnings", "--quiet", "--format", "json", "--no-build", "--wizards"])
+        // Building what is not built yet (a fresh clone), as `ger check` does.
+        .args(["check", "--deny", "warnings", "--quiet", "--format", "json", "--wizards"])
         .arg(repo("wizards"))
         .arg("part.ngc")
         .current_dir(dir.path())
