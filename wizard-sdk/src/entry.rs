@@ -16,9 +16,18 @@ fn slope(angle_degrees: f64) -> Result<f64, String> {
     Ok(angle_degrees.to_radians().tan())
 }
 
-/// Passes of at most `most` each to go down `depth`: at least one.
-fn passes(depth: f64, most: f64) -> u32 {
-    (depth / most).ceil().max(1.0) as u32
+/// The depths of equal passes from `from` down to `to`, each at most `most`
+/// deep (at least one pass), the last exactly at `to`.
+pub fn equal_passes(from: f64, to: f64, most: f64) -> impl Iterator<Item = f64> {
+    let count = ((from - to) / most).ceil().max(1.0) as u32;
+    (1..=count).map(move |n| if n == count { to } else { from - (from - to) * f64::from(n) / f64::from(count) })
+}
+
+/// The levels a cut goes down to from `top`: `stepdown` apart, the last
+/// exactly at `depth` below `top` (at least one).
+pub fn levels(top: f64, depth: f64, stepdown: f64) -> Vec<f64> {
+    let count = (depth / stepdown).ceil().max(1.0) as u32;
+    (1..=count).map(|n| if n == count { top - depth } else { top - f64::from(n) * stepdown }).collect()
 }
 
 /// A ramp from `a` at `from_z` (where the tool is) down to `to_z`, back and
@@ -41,14 +50,12 @@ pub fn ramp(
     if from_z < to_z {
         return Err(format!("a ramp goes down: Z{to_z} is above Z{from_z}"));
     }
-    let count = passes(from_z - to_z, length * slope);
-    let mut out = Vec::with_capacity(count as usize + 2);
+    let mut out = Vec::new();
     let mut at_a = true;
-    for pass in 1..=count {
-        let z = if pass == count { to_z } else { from_z - (from_z - to_z) * f64::from(pass) / f64::from(count) };
+    for (pass, z) in equal_passes(from_z, to_z, length * slope).enumerate() {
         let [x, y] = if at_a { b } else { a };
         let block = g1().xy(x, y).z(z);
-        out.push(if pass == 1 { block.f(feed) } else { block }.into());
+        out.push(if pass == 0 { block.f(feed) } else { block }.into());
         at_a = !at_a;
     }
     // Level at the bottom, over the wedge the last ramp left, ending at `a`.
@@ -82,13 +89,11 @@ pub fn helix(
         return Err(format!("a helix goes down: Z{to_z} is above Z{from_z}"));
     }
     let turn = 2.0 * std::f64::consts::PI * radius;
-    let count = passes(from_z - to_z, turn * slope);
     let arc = || if clockwise { g2() } else { g3() };
-    let mut out = Vec::with_capacity(count as usize + 1);
-    for pass in 1..=count {
-        let z = if pass == count { to_z } else { from_z - (from_z - to_z) * f64::from(pass) / f64::from(count) };
+    let mut out = Vec::new();
+    for (pass, z) in equal_passes(from_z, to_z, turn * slope).enumerate() {
         let block = arc().xy(start[0], start[1]).z(z).i(i).j(j);
-        out.push(if pass == 1 { block.f(feed) } else { block }.into());
+        out.push(if pass == 0 { block.f(feed) } else { block }.into());
     }
     out.push(arc().xy(start[0], start[1]).i(i).j(j).into());
     Ok(out)

@@ -3,6 +3,7 @@
 //! full retract to clear the chips, or pecks that only back off to break them.
 
 use crate::block::{g0, g1, Statement};
+use crate::entry::equal_passes;
 use crate::Args;
 
 /// How a hole is drilled.
@@ -74,11 +75,7 @@ impl Hole {
     /// rapid back to the clearance.
     pub fn at(&self, x: f64, y: f64) -> Vec<Statement> {
         let mut out = vec![g0().xy(x, y).into()];
-        let depths = |peck: f64| {
-            let count = ((self.clearance - self.bottom) / peck).ceil().max(1.0) as u32;
-            let step = (self.clearance - self.bottom) / f64::from(count);
-            (1..=count).map(move |n| if n == count { self.bottom } else { self.clearance - step * f64::from(n) })
-        };
+        let depths = |peck: f64| equal_passes(self.clearance, self.bottom, peck);
         match self.pecking {
             Pecking::None => out.push(g1().z(self.bottom).f(self.feed).into()),
             Pecking::FullRetract { peck } => {

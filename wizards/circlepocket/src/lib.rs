@@ -74,18 +74,17 @@ pub fn plan(centre: [f64; 3], diameter: f64, depth: f64, cut: &Cut) -> Result<Ve
     let helix = outer.min(HELIX * r);
     // Rings from the helix's out to the wall, evenly apart.
     let rings = ((outer - helix) / (MAX_STEPOVER * cut.tool_diameter)).ceil() as u32;
-    let levels = (depth / cut.stepdown).ceil().max(1.0) as u32;
+    let levels = entry::levels(top, depth, cut.stepdown);
 
     let mut out = vec![comment(format!(
-        "CirclePocket {diameter} x {depth}: {levels} levels, a helix of radius {helix:.4} and {rings} rings, tool diameter {}",
+        "CirclePocket {diameter} x {depth}: {} levels, a helix of radius {helix:.4} and {rings} rings, tool diameter {}",
+        levels.len(),
         cut.tool_diameter
     ))];
     let start = [cx + helix, cy];
     out.push(g0().xy(start[0], start[1]).into());
     let mut above = top;
-    for level in 1..=levels {
-        // The last level lands exactly on DEPTH, whatever the rounding.
-        let z = if level == levels { top - depth } else { top - f64::from(level) * cut.stepdown };
+    for &z in &levels {
         out.extend(entry::helix([cx, cy], start, above, z, cut.ramp, false, cut.feed)?);
         for ring in 1..=rings {
             let radius = helix + (outer - helix) * f64::from(ring) / f64::from(rings);

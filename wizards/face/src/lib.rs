@@ -51,12 +51,12 @@ impl Wizard for Face {
         let reach = d / 2.0 + CLEARANCE * d;
         let (xa, xb) = (x0 - reach, x0 + length + reach);
         let rows = (width / stepover).ceil() as u32 + 1;
-        let levels = (depth / stepdown).ceil().max(1.0) as u32;
-        let mut out = vec![comment(format!("Face {length} x {width} x {depth}: {levels} levels of {rows} rows"))];
+        let levels = entry::levels(top, depth, stepdown);
+        let mut out =
+            vec![comment(format!("Face {length} x {width} x {depth}: {} levels of {rows} rows", levels.len()))];
         out.push(g0().xy(xa, y0).into());
         let mut above = top;
-        for level in 1..=levels {
-            let z = if level == levels { top - depth } else { top - f64::from(level) * stepdown };
+        for &z in &levels {
             out.extend(entry::ramp([xa, y0], [xb, y0], above, z, entry::DEFAULT_ENTRY_ANGLE, feed)?);
             // The ramp cut the first row at this level; the others go back and forth from its end.
             for row in 1..rows {

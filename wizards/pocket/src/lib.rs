@@ -73,19 +73,18 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement
     let Cut { diameter, stepdown, ramp, feed } = *cut;
     let r = diameter / 2.0;
     let (xa, xb, ya, yb) = (x0 + r, x0 + length - r, y0 + r, y0 + width - r);
-    let levels = (depth / stepdown).ceil().max(1.0) as u32;
+    let levels = entry::levels(top, depth, stepdown);
     let rows = ((yb - ya) / (MAX_STEPOVER * diameter)).ceil() as u32 + 1;
 
     let mut out = vec![comment(format!(
-        "Pocket {length} x {width} x {depth}: {levels} levels of {rows} rows, tool diameter {diameter}"
+        "Pocket {length} x {width} x {depth}: {} levels of {rows} rows, tool diameter {diameter}",
+        levels.len()
     ))];
     out.push(g0().xy(xa, ya).into());
     // Along the first row, or up the first column of a pocket the tool's length.
     let ramp_end = if xb > xa { [xb, ya] } else { [xa, yb] };
     let mut above = top;
-    for level in 1..=levels {
-        // The last level lands exactly on DEPTH, whatever the rounding.
-        let z = if level == levels { top - depth } else { top - f64::from(level) * stepdown };
+    for &z in &levels {
         out.extend(entry::ramp([xa, ya], ramp_end, above, z, ramp, feed)?);
         above = z;
         for row in 0..rows {

@@ -121,14 +121,13 @@ impl Wizard for Profile {
                 .to_string());
         }
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling Profile")?;
-        let levels = (depth / stepdown).ceil().max(1.0) as u32;
+        let levels = entry::levels(top, depth, stepdown);
         let side = if outside { "outside" } else { "inside" };
-        let mut out = vec![comment(format!("Profile {side} {length} x {width} x {depth}: {levels} levels"))];
+        let mut out = vec![comment(format!("Profile {side} {length} x {width} x {depth}: {} levels", levels.len()))];
         let start = path.start();
         out.push(g0().xy(start[0], start[1]).into());
         let mut above = top;
-        for level in 1..=levels {
-            let z = if level == levels { top - depth } else { top - f64::from(level) * stepdown };
+        for &z in &levels {
             if path.is_circle() {
                 // Its whole turn at the level is the loop.
                 out.extend(entry::helix(path.low, start, above, z, entry::DEFAULT_ENTRY_ANGLE, outside, feed)?);
