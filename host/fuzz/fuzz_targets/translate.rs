@@ -6,7 +6,7 @@
 #[path = "../../tests/support/plain.rs"]
 mod plain;
 
-use ger_core::config::{Config, DialectConfig};
+use ger_core::config::{Config, DialectConfig, RunLimits};
 use ger_core::emit::Emitter;
 use ger_core::passes::{parse, translate, Event, Library, Options, LAST_STAGE};
 use ger_core::statement::{Dialect, Units};
@@ -17,13 +17,14 @@ use libfuzzer_sys::fuzz_target;
 /// output (`M98 P1 L99999999`), which ger streams in flat memory; past this
 /// many lines the rest is more of the same.
 const EVENTS: usize = 100_000;
-/// Loops run this many times at most: the limit's own rule is a unit test,
-/// and a loop that makes no output would otherwise run a million times.
-const MAX_ITERATIONS: u64 = 10_000;
+/// Loops, calls and repeats run this much at most: the limits' own rules
+/// are unit tests, and nested loops or repeats that make no output would
+/// otherwise run a hundred million blocks (see the parse target).
+const LIMITS: RunLimits = RunLimits { iterations: 1_000, blocks: 1_000 };
 
 fuzz_target!(|program: &[u8]| {
     for (dialect, units) in [(Dialect::Strict, Units::Inch), (Dialect::Lenient, Units::Mm)] {
-        let limited = DialectConfig { max_iterations: MAX_ITERATIONS, ..DialectConfig::from(dialect) };
+        let limited = DialectConfig { limits: LIMITS, ..DialectConfig::from(dialect) };
         let config = Config { dialect: limited, units, ..Config::default() };
         let library = Library::scanning(|| Library::scan(program, &config.dialect))
             .with_restart(|| Box::new(parse(program, &config.dialect)));

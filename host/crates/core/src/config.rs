@@ -75,13 +75,41 @@ pub struct MachineSettings {
     /// stopped as one that never ends.
     #[serde(default = "default_max_iterations")]
     pub max_iterations: u64,
+    /// How many blocks loops, subroutine calls and repeats may run in all,
+    /// each counted every time it runs: nested loops that each end, or
+    /// `M98 L` repeats nested in one another, can still be work without end.
+    #[serde(default = "default_max_blocks")]
+    pub max_blocks: u64,
 }
 
-/// The most `[machine] max_iterations` may be: a loop that long is a hang.
-const MAX_ITERATIONS_BOUND: u64 = 1_000_000_000;
+/// The most `[machine] max_iterations` and `max_blocks` may be: a program
+/// that long is a hang.
+const RUN_LIMIT_BOUND: u64 = 1_000_000_000;
 
 fn default_max_iterations() -> u64 {
-    crate::macros::MAX_ITERATIONS
+    RunLimits::default().iterations
+}
+
+fn default_max_blocks() -> u64 {
+    RunLimits::default().blocks
+}
+
+/// How much a program may run beyond its own text before it is stopped as
+/// one that never ends: the translation is bounded whatever the input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunLimits {
+    /// How many times one loop may run.
+    pub iterations: u64,
+    /// How many blocks may run inside loops, calls and repeats, in all.
+    pub blocks: u64,
+}
+
+impl Default for RunLimits {
+    /// A million passes of one loop, a hundred million repeated blocks (a
+    /// few minutes' translation): far beyond what a real program runs.
+    fn default() -> RunLimits {
+        RunLimits { iterations: 1_000_000, blocks: 100_000_000 }
+    }
 }
 
 impl Default for MachineSettings {
@@ -95,6 +123,7 @@ impl Default for MachineSettings {
             default_feed: None,
             spline_tolerance: None,
             max_iterations: default_max_iterations(),
+            max_blocks: default_max_blocks(),
         }
     }
 }
@@ -334,9 +363,9 @@ impl Tool {
 pub struct DialectConfig {
     pub name: Dialect,
     pub codes: CodeLists,
-    /// `[machine] max_iterations`, here because the interpreter stage reads
-    /// the dialect alone.
-    pub max_iterations: u64,
+    /// `[machine] max_iterations` and `max_blocks`, here because the
+    /// interpreter stage reads the dialect alone.
+    pub limits: RunLimits,
 }
 
 impl Default for DialectConfig {
@@ -347,7 +376,7 @@ impl Default for DialectConfig {
 
 impl From<Dialect> for DialectConfig {
     fn from(name: Dialect) -> DialectConfig {
-        DialectConfig { name, codes: CodeLists::default(), max_iterations: default_max_iterations() }
+        DialectConfig { name, codes: CodeLists::default(), limits: RunLimits::default() }
     }
 }
 
@@ -405,7 +434,7 @@ mod dialect_config {
             // A table alone says what to do with codes only the lenient dialect reads.
             let name = table.name.as_deref().map_or(Ok(Dialect::Lenient), name)?;
             let codes = CodeLists { pass_through: codes(&table.pass_through)?, ignore: codes(&table.ignore)? };
-            Ok(DialectConfig { name, codes, max_iterations: super::default_max_iterations() })
+            Ok(DialectConfig { name, codes, limits: super::RunLimits::default() })
         }
     }
 
@@ -444,7 +473,8 @@ impl Config {
             let source = ToolSource::Config { file: String::new() };
             config.tool_sources = config.tools.iter().map(|t| (t.number, source.clone())).collect();
         }
-        config.dialect.max_iterations = config.machine.max_iterations;
+        config.dialect.limits =
+            RunLimits { iterations: config.machine.max_iterations, blocks: config.machine.max_blocks };
         config.validate(text)
     }
 
@@ -533,9 +563,11 @@ impl Config {
             let message = format!("[machine] m47_repeats must be from 0 to {MAX_M47_REPEATS}");
             return Err(at(&key("machine", "m47_repeats"), message));
         }
-        if !(1..=MAX_ITERATIONS_BOUND).contains(&machine.max_iterations) {
-            let message = format!("[machine] max_iterations must be from 1 to {MAX_ITERATIONS_BOUND}");
-            return Err(at(&key("machine", "max_iterations"), message));
+        for (name, limit) in [("max_iterations", machine.max_iterations), ("max_blocks", machine.max_blocks)] {
+            if !(1..=RUN_LIMIT_BOUND).contains(&limit) {
+                let message = format!("[machine] {name} must be from 1 to {RUN_LIMIT_BOUND}");
+                return Err(at(&key("machine", name), message));
+            }
         }
         if machine.travel.is_some_and(|travel| !sizes(&travel)) {
             return Err(at(&key("machine", "travel"), format!("[machine] travel must be three lengths {lengths}")));
@@ -807,6 +839,7 @@ tip_angle = 90
             ("[render]\nmemory_limit_mb = 0\n", 2, "from 1 to 1048576"),
             ("units = \"mm\"\n[machine]\nm47_repeats = 1000000\n", 3, "from 0 to 1000"),
             ("[machine]\nmax_iterations = 0\n", 2, "from 1 to 1000000000"),
+            ("[machine]\nmax_blocks = 1000000001\n", 2, "max_blocks must be from 1 to 1000000000"),
             ("units = \"mm\"\n[machine]\nrapid_rate = 1e-300\n", 3, "from 1 to 1000000 mm/min"),
             ("[machine]\ng30 = [0, 0, 1e300]\n", 2, "within ±4000 in"),
             ("[machine]\ndefault_feed = 0\n", 2, "default_feed must be from 0.04 to 40000 in/min"),

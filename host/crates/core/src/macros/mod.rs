@@ -18,6 +18,7 @@ use std::collections::{HashMap, VecDeque};
 use std::rc::Rc;
 use std::sync::Arc;
 
+use crate::config::RunLimits;
 use crate::diag::{Diagnostic, Origin, Span};
 use crate::lex::{Lexed, Macro, Piece, Token, TokenKind, MAX_NUMBER};
 use control::{Control, Keyword};
@@ -30,9 +31,6 @@ const FIRST_SYSTEM_PARAMETER: u32 = 5000;
 
 /// `#1` to `#30` belong to a call level, as in LinuxCNC.
 const LOCALS: usize = 30;
-
-/// `[machine] max_iterations`' default: how many times one loop may run.
-pub const MAX_ITERATIONS: u64 = 1_000_000;
 
 /// Where `return [value]` leaves the value.
 const RETURNED: &str = "_value";
@@ -199,7 +197,9 @@ pub struct Interpreter<L> {
     subs: HashMap<String, Rc<Sub>>,
     /// Lines read ahead to find a subroutine, to be run in their turn.
     ahead: VecDeque<Line>,
-    max_iterations: u64,
+    limits: RunLimits,
+    /// How many blocks loops and calls have run, against `limits.blocks`.
+    blocks_run: u64,
     /// An error came while a loop ran: the loops stop before the next step.
     stop_loops: bool,
     out: VecDeque<Lexed>,
@@ -207,7 +207,7 @@ pub struct Interpreter<L> {
 }
 
 impl<L: Iterator<Item = Piece>> Interpreter<L> {
-    pub fn new(tokens: L, max_iterations: u64) -> Interpreter<L> {
+    pub fn new(tokens: L, limits: RunLimits) -> Interpreter<L> {
         Interpreter {
             tokens,
             store: Store::default(),
@@ -216,7 +216,8 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             frames: Vec::new(),
             subs: HashMap::new(),
             ahead: VecDeque::new(),
-            max_iterations,
+            limits,
+            blocks_run: 0,
             stop_loops: false,
             out: VecDeque::new(),
             done: false,
@@ -439,6 +440,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         let body = frame.body.clone();
         let node = &body[frame.next];
         frame.next += 1;
+        if !self.count_block() {
+            return true;
+        }
         match node {
             Node::Line(line) => self.run_line(line),
             Node::Sub(sub) => {
@@ -489,6 +493,11 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// The innermost body has run to its end.
     fn end_of_body(&mut self) {
+        let looping = matches!(self.frames.last().map(|frame| &frame.kind), Some(FrameKind::Loop { .. }));
+        // A loop's end and its test are a block run again, each time.
+        if looping && !self.count_block() {
+            return;
+        }
         let frame = self.frames.last_mut().expect("a body is running");
         match &mut frame.kind {
             FrameKind::Branch => {
@@ -509,7 +518,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 let frame = self.frames.last_mut().expect("a body is running");
                 let FrameKind::Loop { iterations, .. } = frame.kind else { unreachable!("matched above") };
                 match again {
-                    Ok(true) if iterations >= self.max_iterations => {
+                    Ok(true) if iterations >= self.limits.iterations => {
                         self.frames.pop();
                         let message =
                             format!("{} ran {iterations} times without ending: stopped", block.head.describe());
@@ -527,6 +536,32 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 }
             }
         }
+    }
+
+    /// Counts a block run inside a loop or a call. Past `limits.blocks` the
+    /// program ends there, at the outermost loop or call, as one that never
+    /// ends: false then. Loops that each end, nested, could otherwise run
+    /// for longer than anyone waits.
+    fn count_block(&mut self) -> bool {
+        let outermost = self.frames.iter().find_map(|frame| match &frame.kind {
+            FrameKind::Loop { block, .. } => Some(block.head.span),
+            FrameKind::Call { origin } => Some(origin.call),
+            FrameKind::Branch => None,
+        });
+        let Some(outermost) = outermost else { return true };
+        self.blocks_run += 1;
+        if self.blocks_run <= self.limits.blocks {
+            return true;
+        }
+        let message =
+            format!("the loops and calls from here ran {} blocks without ending: stopped", self.limits.blocks);
+        let help = "raise [machine] max_blocks in ger.toml if the program is meant to run longer";
+        self.out.push_back(Lexed::Diagnostic(Diagnostic::error(outermost, message).with_help(help)));
+        self.frames.clear();
+        self.open.clear();
+        self.ahead.clear();
+        self.done = true;
+        false
     }
 
     fn leave_call(&mut self) {
@@ -705,7 +740,7 @@ impl<L: Iterator<Item = Piece>> Iterator for Interpreter<L> {
 
 #[cfg(test)]
 mod tests {
-    use crate::config::Config;
+    use crate::config::{Config, DialectConfig, RunLimits};
     use crate::passes::testing::run_with;
     use crate::statement::{Dialect, Units};
 
@@ -852,9 +887,40 @@ mod tests {
     }
 
     #[test]
+    fn loops_that_each_end_are_stopped_when_together_they_run_too_long() {
+        let limits = RunLimits { iterations: 1000, blocks: 100 };
+        let config = Config {
+            dialect: DialectConfig { limits, ..Dialect::Lenient.into() },
+            units: Units::Mm,
+            ..Config::default()
+        };
+        // Each loop ends after ten passes. A pass of o1 runs 33 blocks: `#2=0`, o2's
+        // head, ten times o2's two lines and its end, and o1's end; three make 99, and
+        // the fourth stops at o2's head, the 101st, having moved in three passes.
+        let program = "G21 G01 F10\n#1=0\no1 repeat [10]\n#2=0\no2 repeat [10]\nG01 X#2\n#2=[#2+1]\no2 endrepeat\no1 endrepeat\nG01 Y1";
+        let got = run_with(program, &config, 4);
+        assert_eq!(got.iter().filter(|line| line.starts_with("G01 X")).count(), 30, "{got:?}");
+        assert_eq!(
+            got.last().unwrap(),
+            "3:1: error: the loops and calls from here ran 100 blocks without ending: stopped"
+        );
+        assert!(!got.iter().any(|line| line.contains("Y1")), "the program ends at the stop: {got:?}");
+        // Calls count as well: a subroutine that calls another ten times, ten times.
+        let program = "o1 sub\nG01 X1 F10\no1 endsub\no2 sub\no3 repeat [10]\no1 call\no3 endrepeat\no2 endsub\no4 repeat [10]\no2 call\no4 endrepeat";
+        let got = run_with(&format!("G21\n{program}"), &config, 4);
+        assert_eq!(
+            got.last().unwrap(),
+            "10:1: error: the loops and calls from here ran 100 blocks without ending: stopped"
+        );
+    }
+
+    #[test]
     fn a_loop_that_does_not_end_is_stopped_at_its_head() {
         let config = Config {
-            dialect: crate::config::DialectConfig { max_iterations: 5, ..Dialect::Lenient.into() },
+            dialect: DialectConfig {
+                limits: RunLimits { iterations: 5, ..RunLimits::default() },
+                ..Dialect::Lenient.into()
+            },
             units: Units::Mm,
             ..Config::default()
         };

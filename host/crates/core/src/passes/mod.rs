@@ -123,7 +123,7 @@ pub struct Options<'a> {
 /// before any pass. The lenient dialect's parameters and expressions are
 /// worked out between the two, by the interpreter stage.
 pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
-    let tokens = Interpreter::new(Lexer::in_dialect(program, dialect.name).pieces(), dialect.max_iterations);
+    let tokens = Interpreter::new(Lexer::in_dialect(program, dialect.name).pieces(), dialect.limits);
     parse_in(tokens, dialect.name).with_code_lists(dialect.codes.clone())
 }
 

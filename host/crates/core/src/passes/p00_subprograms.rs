@@ -159,6 +159,11 @@ pub struct Subprograms<'a, I> {
     library: Library<'a>,
     runtime: WizardRuntime<'a>,
     stack: Vec<Frame>,
+    /// How many statements and repeats the stack has run, against
+    /// `[machine] max_blocks`: repeats nested in repeats multiply.
+    blocks_run: u64,
+    /// The runs went past `max_blocks`: the program ends.
+    stopped: bool,
     /// The subprogram being defined in the main stream, and its body so far.
     defining: Option<(u32, Span, Vec<Statement>)>,
     /// Programs defined in the main stream so far, to catch a second definition.
@@ -192,6 +197,8 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             library,
             runtime,
             stack: Vec::new(),
+            blocks_run: 0,
+            stopped: false,
             defining: None,
             defined: HashSet::new(),
             seen_first_statement: false,
@@ -206,7 +213,11 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
 
     /// The next statement of the innermost running subprogram, if any.
     fn next_from_stack(&mut self) -> Option<Statement> {
-        while let Some(frame) = self.stack.last_mut() {
+        while !self.stack.is_empty() {
+            if !self.count_block() {
+                return None;
+            }
+            let frame = self.stack.last_mut().expect("not empty");
             if let Some(statement) = frame.body.get(frame.next) {
                 frame.next += 1;
                 let mut statement = statement.clone();
@@ -221,6 +232,23 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             }
         }
         None
+    }
+
+    /// Counts a statement or a repeat the stack runs. Past `max_blocks` the
+    /// program ends with an error at the outermost call: false then.
+    fn count_block(&mut self) -> bool {
+        self.blocks_run += 1;
+        let limit = self.runtime.config.dialect.limits.blocks;
+        if self.blocks_run <= limit {
+            return true;
+        }
+        let outermost = self.stack[0].origin.call;
+        let message = format!("the calls from here ran {limit} blocks without ending: stopped");
+        let help = "raise [machine] max_blocks in ger.toml if the program is meant to run longer";
+        self.pending = Some(Event::Diagnostic(Diagnostic::error(outermost, message).with_help(help)));
+        self.stack.clear();
+        self.stopped = true;
+        false
     }
 
     /// Handles a statement from the main program text. Returns what to emit.
@@ -596,6 +624,7 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
             }
             let event = match self.next_from_stack() {
                 Some(statement) => self.run(statement),
+                None if self.stopped => return self.pending.take(),
                 None => match self.restarted.as_mut().map_or_else(|| self.upstream.next(), |stream| stream.next()) {
                     Some(Event::Statement(statement)) => self.main_statement(statement),
                     Some(diagnostic) => Some(diagnostic),
@@ -619,6 +648,20 @@ mod tests {
     use crate::config::Config;
     use crate::passes::testing::{run, run_with};
     use crate::statement::Dialect;
+
+    #[test]
+    fn repeats_nested_in_repeats_are_stopped_past_max_blocks() {
+        let mut config = Config::default();
+        config.dialect.limits.blocks = 50;
+        // A pass of O200 runs its move and its end: 2 blocks, 20 for L10. A pass
+        // of O100 runs its M98, those 20 and its end: 22. Two passes make 44; the
+        // third stops at the 51st block, after three moves of its O200.
+        let program = "O1\nM98 P100 L10\nM30\nO100\nM98 P200 L10\nM99\nO200\nG01 X1 F10\nM99\n";
+        let got = run_with(program, &config, 0);
+        assert_eq!(got.iter().filter(|line| line.starts_with("G01")).count(), 23, "{got:?}");
+        assert_eq!(got.last().unwrap(), "2:1: error: the calls from here ran 50 blocks without ending: stopped");
+        assert!(!got.iter().any(|line| line == "M30"), "the program ends at the stop: {got:?}");
+    }
 
     #[test]
     fn calls_are_replaced_by_the_body_l_times() {
