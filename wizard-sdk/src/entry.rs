@@ -9,7 +9,7 @@ use crate::block::{g1, g2, g3, Statement};
 /// has no better figure: a usual CAM default for endmills.
 pub const DEFAULT_ENTRY_ANGLE: f64 = 3.0;
 
-fn slope(angle_degrees: f64) -> Result<f64, String> {
+pub(crate) fn slope(angle_degrees: f64) -> Result<f64, String> {
     if !(angle_degrees > 0.0 && angle_degrees < 90.0) {
         return Err(format!("an entry angle must be above 0 and below 90 degrees, not {angle_degrees}"));
     }

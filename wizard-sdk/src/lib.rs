@@ -6,7 +6,9 @@
 //! sees plain Rust types ([`State`], [`Arg`], [`Statement`]) and builds its
 //! output with [`g0`], [`g1`], [`g2`], [`g3`], [`g`], [`m`], [`comment`] and
 //! [`call`]; [`entry`] takes a cutter down into material by a ramp or a
-//! helix instead of a plunge, and [`holes`] drills as G81, G83 or G73 would.
+//! helix instead of a plunge, [`contour`] follows a closed path of lines and
+//! arcs at heights that change along it (ramps along the path, holding
+//! tabs), and [`holes`] drills as G81, G83 or G73 would.
 //!
 //! ```no_run
 //! use ger_wizard_sdk::*;
@@ -36,6 +38,7 @@
 
 mod args;
 mod block;
+pub mod contour;
 pub mod entry;
 pub mod holes;
 mod state;
