@@ -334,6 +334,31 @@ fn profile_cuts_a_groove_round_the_outside_or_the_inside_and_nothing_else() {
         let height = height_at(&field, point[0], point[1]);
         assert!((height - if cut { -6.0 } else { 0.0 }).abs() < 1e-6, "circle: Z{height} at {point:?}");
     }
+    // Four tabs, in two levels of 3: the path round the 60 x 40 rectangle (corner
+    // radius 3, the tool's) is 200 + 6π long, from (80, 17) clockwise. The tabs'
+    // centres are an eighth, three eighths... of it along: 27.36 along the bottom
+    // edge and 17.36 up the left one (after the 60 mm edge and a 3π/2 corner).
+    // Their bridges, 12 wide (twice the tool) and 1.5 high (a quarter of 6),
+    // stay at Z-4.5; beyond a bridge's end and its 45° ramp the groove is at Z-6.
+    let call = "Profile 60 40 6 \"outside\" 0 3 4";
+    let (status, report) = denied_check(&program(call), config);
+    assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
+    let field = simulated(&program(call), config, 0.2);
+    let lap = 200.0 + 6.0 * std::f64::consts::PI;
+    let (bottom, left) = (80.0 - lap / 8.0, 20.0 + 3.0 * lap / 8.0 - 60.0 - 1.5 * std::f64::consts::PI);
+    for (point, expected) in [
+        ([bottom, 17.0], -4.5),
+        ([bottom - 4.0, 17.0], -4.5),
+        ([bottom + 4.0, 17.0], -4.5),
+        ([bottom + 12.0, 17.0], -6.0),
+        ([bottom - 12.0, 17.0], -6.0),
+        ([17.0, left], -4.5),
+        ([17.0, left + 12.0], -6.0),
+        ([50.0, 40.0], 0.0),
+    ] {
+        let height = height_at(&field, point[0], point[1]);
+        assert!((height - expected).abs() < 1e-6, "{call}: Z{height} at {point:?}, not {expected}");
+    }
     // What cannot be cut is an error at the call.
     let (_, diagnostics) = run(
         "wizards",
@@ -347,6 +372,12 @@ fn profile_cuts_a_groove_round_the_outside_or_the_inside_and_nothing_else() {
         &program("Profile 60 40 6 \"round\""),
     );
     assert!(diagnostics.len() == 1 && diagnostics[0].contains("\"outside\" or \"inside\""), "{diagnostics:?}");
+    let (_, diagnostics) = run(
+        "wizards",
+        &mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n"),
+        &program("Profile 20 20 6 \"outside\" 0 3 6"),
+    );
+    assert!(diagnostics.len() == 1 && diagnostics[0].contains("do not fit"), "{diagnostics:?}");
 }
 
 #[test]

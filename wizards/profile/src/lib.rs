@@ -1,6 +1,7 @@
-//! `Profile LENGTH WIDTH DEPTH [SIDE] [CORNER] [STEPDOWN]`: cuts along the
-//! outside or the inside of a rectangle, its corners rounded to CORNER (a
-//! CORNER of half the sides makes it a circle).
+//! `Profile LENGTH WIDTH DEPTH [SIDE] [CORNER] [STEPDOWN] [TABS] [TAB_WIDTH]
+//! [TAB_HEIGHT]`: cuts along the outside or the inside of a rectangle, its
+//! corners rounded to CORNER (a CORNER of half the sides makes it a circle),
+//! leaving TABS holding tabs that keep the part in place.
 //!
 //! The rectangle's lower-left corner is at the current XY and its top at the
 //! current Z. SIDE is `"outside"` (the default: the part is the rectangle)
@@ -9,65 +10,53 @@
 //! as far as its radius allows. It goes round clockwise outside and
 //! counter-clockwise inside, which is climb milling with M03. Each level
 //! (STEPDOWN apart, default the tool's diameter; the last exactly at DEPTH)
-//! is reached by a ramp along the bottom edge (a helix for a circle), never
-//! straight down. Afterwards the tool is back at the call's position, in the
-//! call's modes.
+//! is reached by a ramp along the path itself (3°, as many laps as it
+//! takes), never straight down, then one whole lap at the level. Tabs are
+//! evenly spaced round the path: bridges TAB_WIDTH wide (default twice the
+//! tool's diameter) and TAB_HEIGHT high above the bottom (default a quarter
+//! of DEPTH), which the tool climbs over at 45° on every level below their
+//! top. Afterwards the tool is back at the call's position, in the call's
+//! modes.
 
 use ger_wizard_sdk::*;
 
 struct Profile;
 
-/// The tool centre's path: a rounded rectangle, corner centres and radius.
-struct Path {
-    /// Lower-left and upper-right corner centres.
-    low: [f64; 2],
-    high: [f64; 2],
-    radius: f64,
-    clockwise: bool,
-}
+/// More tabs than this round one path would be a part held by its tabs alone.
+const MAX_TABS: u32 = 100;
 
-impl Path {
-    /// Where the loop starts: the bottom edge's first end, in the loop's direction.
-    fn start(&self) -> [f64; 2] {
-        let x = if self.clockwise { self.high[0] } else { self.low[0] };
-        [x, self.low[1] - self.radius]
+/// The tool centre's path: a rounded rectangle from its corner centres and
+/// radius, starting on the bottom edge, clockwise or not.
+fn path(low: [f64; 2], high: [f64; 2], radius: f64, clockwise: bool) -> contour::Contour {
+    let ([x0, y0], [x1, y1], r) = (low, high, radius);
+    if low == high {
+        return contour::Contour::circle(low, [x0, y0 - r], clockwise);
     }
-
-    /// The bottom edge's other end.
-    fn bottom_end(&self) -> [f64; 2] {
-        let x = if self.clockwise { self.low[0] } else { self.high[0] };
-        [x, self.low[1] - self.radius]
-    }
-
-    fn is_circle(&self) -> bool {
-        self.low == self.high
-    }
-
-    /// One loop at the current level, from `start()` back to it.
-    fn round(&self) -> Vec<Statement> {
-        let ([x0, y0], [x1, y1], r) = (self.low, self.high, self.radius);
-        // Corner centres in the loop's order after the start, with the point each corner's arc ends at.
-        let corners: [([f64; 2], [f64; 2]); 4] = if self.clockwise {
-            [([x0, y0], [x0 - r, y0]), ([x0, y1], [x0, y1 + r]), ([x1, y1], [x1 + r, y1]), ([x1, y0], [x1, y0 - r])]
-        } else {
-            [([x1, y0], [x1 + r, y0]), ([x1, y1], [x1, y1 + r]), ([x0, y1], [x0 - r, y1]), ([x0, y0], [x0, y0 - r])]
-        };
-        // Before each corner, the straight edge to where its arc starts.
-        let starts: [[f64; 2]; 4] = if self.clockwise {
-            [[x0, y0 - r], [x0 - r, y1], [x1, y1 + r], [x1 + r, y0]]
-        } else {
-            [[x1, y0 - r], [x1 + r, y1], [x0, y1 + r], [x0 - r, y0]]
-        };
-        let mut out = Vec::new();
-        for ((centre, end), arc_start) in corners.iter().zip(starts) {
-            out.push(g1().xy(arc_start[0], arc_start[1]).into());
-            if r > 0.0 {
-                let arc = if self.clockwise { g2() } else { g3() };
-                out.push(arc.xy(end[0], end[1]).i(centre[0] - arc_start[0]).j(centre[1] - arc_start[1]).into());
-            }
+    // Corner centres in the loop's order from the start, each with where its arc starts and ends.
+    let corners: [([f64; 2], [f64; 2], [f64; 2]); 4] = if clockwise {
+        [
+            ([x0, y0], [x0, y0 - r], [x0 - r, y0]),
+            ([x0, y1], [x0 - r, y1], [x0, y1 + r]),
+            ([x1, y1], [x1, y1 + r], [x1 + r, y1]),
+            ([x1, y0], [x1 + r, y0], [x1, y0 - r]),
+        ]
+    } else {
+        [
+            ([x1, y0], [x1, y0 - r], [x1 + r, y0]),
+            ([x1, y1], [x1 + r, y1], [x1, y1 + r]),
+            ([x0, y1], [x0, y1 + r], [x0 - r, y1]),
+            ([x0, y0], [x0 - r, y0], [x0, y0 - r]),
+        ]
+    };
+    let start = if clockwise { [x1, y0 - r] } else { [x0, y0 - r] };
+    let mut path = contour::Contour::new(start);
+    for (centre, arc_start, arc_end) in corners {
+        path = path.line_to(arc_start);
+        if r > 0.0 {
+            path = path.arc_to(arc_end, centre, clockwise);
         }
-        out
     }
+    path
 }
 
 impl Wizard for Profile {
@@ -75,7 +64,7 @@ impl Wizard for Profile {
         Description::new(
             "Profile",
             "cuts round the outside or the inside of a rectangle from its lower-left corner",
-            "Profile LENGTH WIDTH DEPTH [SIDE] [CORNER] [STEPDOWN]",
+            "Profile LENGTH WIDTH DEPTH [SIDE] [CORNER] [STEPDOWN] [TABS] [TAB_WIDTH] [TAB_HEIGHT]",
         )
         .param("LENGTH", "size along X")
         .param("WIDTH", "size along Y")
@@ -83,6 +72,9 @@ impl Wizard for Profile {
         .optional("SIDE", "\"outside\" (default) or \"inside\"")
         .optional("CORNER", "radius of the rectangle's corners (default 0; half the sides: a circle)")
         .optional("STEPDOWN", "depth of cut per level (default: the tool's diameter)")
+        .optional("TABS", "how many holding tabs to leave, evenly round the path (default 0)")
+        .optional("TAB_WIDTH", "width of each tab's bridge (default: twice the tool's diameter)")
+        .optional("TAB_HEIGHT", "height of the tabs above the bottom (default: a quarter of DEPTH)")
     }
 
     fn expand(args: &Args, state: &State) -> Result<Vec<Statement>, String> {
@@ -109,33 +101,44 @@ impl Wizard for Profile {
                 tool.number, tool.diameter
             ));
         }
-        let [x0, y0, top] = state.position;
-        let path = Path {
-            low: [x0 + inset, y0 + inset],
-            high: [x0 + length - inset, y0 + width - inset],
-            radius,
-            clockwise: outside,
+        let tabs = match args.optional_number(6)? {
+            None => 0,
+            Some(_) => args.whole(6, 0)?,
         };
-        if !path.is_circle() && path.low[0] == path.high[0] {
-            return Err("the bottom edge is all corner, with no straight part to ramp down along: make CORNER smaller"
-                .to_string());
+        if tabs > MAX_TABS {
+            return Err(format!("TABS (argument 7) must be at most {MAX_TABS}, not {tabs}"));
         }
+        let tab_width = args.optional_positive(7)?.unwrap_or(2.0 * tool.diameter);
+        let tab_height = args.optional_positive(8)?.unwrap_or(depth / 4.0);
+        if tabs > 0 && tab_height >= depth {
+            return Err(format!("TAB_HEIGHT (argument 9) must be less than DEPTH ({depth}), not {tab_height}"));
+        }
+        let [x0, y0, top] = state.position;
+        let path = path([x0 + inset, y0 + inset], [x0 + length - inset, y0 + width - inset], radius, outside);
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling Profile")?;
+        let lap = path.length();
+        let tab_top = top - depth + tab_height;
         let levels = entry::levels(top, depth, stepdown);
         let side = if outside { "outside" } else { "inside" };
         let mut out = vec![comment(format!("Profile {side} {length} x {width} x {depth}: {} levels", levels.len()))];
         let start = path.start();
         out.push(g0().xy(start[0], start[1]).into());
-        let mut above = top;
+        let (mut above, mut at) = (top, 0.0);
         for &z in &levels {
-            if path.is_circle() {
-                // Its whole turn at the level is the loop.
-                out.extend(entry::helix(path.low, start, above, z, entry::DEFAULT_ENTRY_ANGLE, outside, feed)?);
-            } else {
-                out.extend(entry::ramp(start, path.bottom_end(), above, z, entry::DEFAULT_ENTRY_ANGLE, feed)?);
-                out.extend(path.round());
+            // Down along the path, then a whole lap at the level, which also
+            // cuts away the wedge the ramp left.
+            let descent = contour::Heights::descent(at, above, z, entry::DEFAULT_ENTRY_ANGLE)?;
+            let end = descent.ends_at() + lap;
+            let first_lap = (at / lap).floor() * lap;
+            let laps = ((end - first_lap) / lap).ceil() as u32 + 1;
+            // The tool's path over a tab is wider than the bridge by its diameter.
+            let tabs = contour::Heights::tabs(lap, first_lap, laps, tabs, tab_width + tool.diameter, z, tab_top)?;
+            let mut moves = path.follow(at, end, &descent.max(&tabs))?;
+            if let Some(Statement::Block(first)) = moves.first_mut() {
+                first.words.push(('F', feed));
             }
-            above = z;
+            out.extend(moves);
+            (above, at) = (z, end);
         }
         out.push(g0().z(top).into());
         out.push(g0().xy(x0, y0).into());
