@@ -20,7 +20,8 @@ use std::sync::Arc;
 
 use crate::config::RunLimits;
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::lex::{Lexed, Macro, Piece, Token, TokenKind, MAX_NUMBER};
+use crate::lex::{Lexed, Lexer, Macro, Piece, SharedHistory, Token, TokenKind, MAX_NUMBER};
+use crate::statement::Dialect;
 use control::{Control, Keyword};
 use expr::{Expr, Param, Parameters};
 
@@ -125,6 +126,24 @@ struct Line {
 }
 
 impl Line {
+    /// The program line it is.
+    fn number(&self) -> u32 {
+        let span = |item: &Piece| match item {
+            Piece::Lexed(Lexed::Token(token)) => token.span,
+            Piece::Lexed(Lexed::Diagnostic(diagnostic)) => diagnostic.span,
+            Piece::Macro(_, span) => *span,
+        };
+        self.end.as_ref().map(|end| end.span).or_else(|| self.items.first().map(span)).map_or(0, |span| span.line)
+    }
+
+    /// The whole `N` number that starts the line, if it has one: where a GOTO may jump.
+    fn label(&self) -> Option<u64> {
+        self.items.iter().find_map(|item| match item {
+            Piece::Macro(Macro::Label(number), _) if number.fract() == 0.0 => Some(*number as u64),
+            _ => None,
+        })
+    }
+
     /// The line's O-word control, if it is a control line.
     fn control(&self) -> Option<&Control> {
         self.items.iter().find_map(|item| match item {
@@ -204,6 +223,41 @@ pub struct Interpreter<L> {
     stop_loops: bool,
     out: VecDeque<Lexed>,
     done: bool,
+    /// The text of the lines read, for a backward GOTO to read again.
+    history: Option<SharedHistory>,
+    /// Lines read again after a GOTO, before the program reads on.
+    replay: Option<Box<dyn Iterator<Item = Piece>>>,
+    /// Where each `N` label of the program's lines is: its first line and
+    /// how many blocks are open there (a GOTO may not jump into one).
+    labels: HashMap<u64, Label>,
+    /// Labels met again, on later lines.
+    more_labels: Vec<(u64, Label)>,
+    /// The blocks open at the line the program has read to, for `labels`.
+    structure: Vec<Control>,
+    /// The first GOTO that jumped back: from there every block counts
+    /// against `limits.blocks`, as a loop's do.
+    jumped: Option<Span>,
+    /// The backward GOTOs whose lines are running, with how often each jumped.
+    goto_loops: Vec<GotoLoop>,
+    /// The line and call level of the last error since a GOTO jumped back:
+    /// a GOTO does not jump back over it again.
+    last_error: Option<(u32, usize)>,
+}
+
+#[derive(Clone, Copy)]
+struct Label {
+    line: u32,
+    open_blocks: u32,
+}
+
+/// A backward GOTO at line `site`, to `target`, with its lines running:
+/// a loop whose iterations are its jumps. It is over once a line outside
+/// them runs (at the same call level).
+struct GotoLoop {
+    site: u32,
+    target: u32,
+    level: usize,
+    jumps: u64,
 }
 
 impl<L: Iterator<Item = Piece>> Interpreter<L> {
@@ -221,7 +275,22 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             stop_loops: false,
             out: VecDeque::new(),
             done: false,
+            history: None,
+            replay: None,
+            labels: HashMap::new(),
+            more_labels: Vec::new(),
+            structure: Vec::new(),
+            jumped: None,
+            goto_loops: Vec::new(),
+            last_error: None,
         }
+    }
+
+    /// `history` holds the text of the lines the lexer has read: a backward
+    /// GOTO reads them again. Without it such a jump is an error.
+    pub fn with_history(mut self, history: SharedHistory) -> Interpreter<L> {
+        self.history = Some(history);
+        self
     }
 
     /// The call the running line is in, for its diagnostics.
@@ -243,6 +312,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     fn diagnostic(&mut self, diagnostic: Diagnostic) {
         if diagnostic.is_error() && self.frames.iter().any(|frame| matches!(frame.kind, FrameKind::Loop { .. })) {
             self.stop_loops = true;
+        }
+        if diagnostic.is_error() {
+            self.last_error = Some((diagnostic.span.line, self.store.levels.len()));
         }
         self.out.push_back(Lexed::Diagnostic(diagnostic));
     }
@@ -290,10 +362,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// Runs a plain line: its words' values, then its assignments.
     fn run_line(&mut self, line: &Line) {
+        if !self.goto_loops.is_empty() {
+            let (number, level) = (line.number(), self.store.levels.len());
+            self.goto_loops.retain(|jump| jump.level != level || (jump.target..=jump.site).contains(&number));
+        }
         let mut tokens = Vec::with_capacity(line.items.len());
         let mut assignments = Vec::new();
         let mut failed = None;
         let mut skipped = false;
+        let mut jump = None;
         for item in &line.items {
             match item {
                 Piece::Lexed(Lexed::Diagnostic(diagnostic)) => self.diagnostic(diagnostic.clone()),
@@ -313,13 +390,18 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                     Ok(_) => {}
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
+                Piece::Macro(Macro::Goto(target), span) => match self.evaluate(target, *span).and_then(|n| label(n, *span)) {
+                    Ok(label) => jump = Some((label, *span)),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
                 // A plain line has no control piece: `read` takes those.
-                Piece::Macro(Macro::Control(_), _) => {}
+                Piece::Macro(Macro::Control(_) | Macro::Label(_), _) => {}
             }
         }
         if let (None, Some(span)) = (&failed, alarm(&assignments)) {
             failed = Some(self.alarm(line, &assignments, span));
         }
+        let jump = jump.filter(|_| failed.is_none());
         match failed {
             Some(diagnostic) => self.error(diagnostic),
             None => {
@@ -330,6 +412,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             }
         }
         self.out.extend(line.end.clone().map(Lexed::Token));
+        if let Some((label, span)) = jump {
+            self.goto(label, span);
+        }
     }
 
     /// Fanuc's `#3000 = n (MESSAGE)`: the program stops with an alarm.
@@ -548,19 +633,21 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             FrameKind::Call { origin } => Some(origin.call),
             FrameKind::Branch => None,
         });
-        let Some(outermost) = outermost else { return true };
+        let by_jump = outermost.is_none();
+        let Some(outermost) = outermost.or(self.jumped) else { return true };
         self.blocks_run += 1;
         if self.blocks_run <= self.limits.blocks {
             return true;
         }
-        let message =
-            format!("the loops and calls from here ran {} blocks without ending: stopped", self.limits.blocks);
+        let blocks = self.limits.blocks;
+        let message = if by_jump {
+            format!("after this GOTO jumped back, the program ran {blocks} blocks without ending: stopped")
+        } else {
+            format!("the loops and calls from here ran {blocks} blocks without ending: stopped")
+        };
         let help = "raise [machine] max_blocks in ger.toml if the program is meant to run longer";
         self.out.push_back(Lexed::Diagnostic(Diagnostic::error(outermost, message).with_help(help)));
-        self.frames.clear();
-        self.open.clear();
-        self.ahead.clear();
-        self.done = true;
+        self.end_program();
         false
     }
 
@@ -638,22 +725,202 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         self.frames.push(Frame { body: sub.body.clone(), next: 0, kind: FrameKind::Call { origin } });
     }
 
-    /// The next line from the lexer, whole; `None` at the program's end.
+    /// The next line, whole: one read again after a GOTO, or the program's
+    /// next; `None` at the program's end.
     fn next_line(&mut self) -> Option<Line> {
-        loop {
-            match self.tokens.next() {
-                Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
-                    let mut line = std::mem::take(&mut self.line);
-                    line.end = Some(token);
-                    return Some(line);
-                }
-                Some(item) => self.line.items.push(item),
-                None => {
-                    let line = std::mem::take(&mut self.line);
-                    return (!line.items.is_empty()).then_some(line);
-                }
+        while let Some(replay) = &mut self.replay {
+            match whole_line(replay, &mut Line::default()) {
+                Some(line) => return Some(line),
+                None => self.replay = None,
             }
         }
+        self.next_line_from_program()
+    }
+
+    /// The program's next line, read for the first time.
+    fn next_line_from_program(&mut self) -> Option<Line> {
+        let line = whole_line(&mut self.tokens, &mut self.line)?;
+        self.note(&line);
+        Some(line)
+    }
+
+    /// A line read for the first time: where its label is, and the blocks
+    /// it opens or closes.
+    fn note(&mut self, line: &Line) {
+        if let Some(number) = line.label() {
+            let label = Label { line: line.number(), open_blocks: self.structure.len() as u32 };
+            match self.labels.entry(number) {
+                std::collections::hash_map::Entry::Vacant(entry) => {
+                    entry.insert(label);
+                }
+                std::collections::hash_map::Entry::Occupied(_) => self.more_labels.push((number, label)),
+            }
+        }
+        let Some(control) = line.control() else { return };
+        let top = self.structure.last();
+        let closes = |keywords: &[Keyword]| {
+            top.is_some_and(|open| open.label == control.label && keywords.contains(&open.keyword))
+        };
+        let close = match control.keyword {
+            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat => false,
+            Keyword::While => closes(&[Keyword::Do]),
+            Keyword::EndSub => closes(&[Keyword::Sub]),
+            Keyword::EndIf => closes(&[Keyword::If]),
+            Keyword::EndWhile => closes(&[Keyword::While]),
+            Keyword::EndRepeat => closes(&[Keyword::Repeat]),
+            _ => return,
+        };
+        if close {
+            self.structure.pop();
+        } else if !matches!(control.keyword, Keyword::EndSub | Keyword::EndIf | Keyword::EndWhile | Keyword::EndRepeat) {
+            self.structure.push(control.clone());
+        }
+    }
+
+    /// `GOTO n`: the program goes on at the line labelled `Nn`. As on a
+    /// Fanuc, it may jump within the loop it is in or out of it (forward or
+    /// back), never into one; in a subroutine, only within it. The search
+    /// goes forward from the GOTO first, then from the start.
+    fn goto(&mut self, label: u64, at: Span) {
+        if let Some((frame, index, line)) = self.label_in_frames(label) {
+            if self.jump_counted(at, line) {
+                self.frames.truncate(frame + 1);
+                self.frames[frame].next = index;
+            }
+            return;
+        }
+        let running = self.frames.iter().position(|frame| !matches!(frame.kind, FrameKind::Branch));
+        let inner = running.map_or(&[][..], |first| &self.frames[first..]);
+        if let Some(head) = inner.iter().find_map(|frame| label_inside(&frame.body, label)) {
+            let message = format!("GOTO {label} jumps into {}, at line {}", head.describe(), head.span.line);
+            let help = "a Fanuc refuses a jump into a loop (alarm 128): jump to its head, or out of it";
+            return self.jump_failed(Diagnostic::error(at, message).with_help(help));
+        }
+        if let Some(origin) = self.origin() {
+            let message = format!("GOTO {label}: {} has no line N{label}", origin.what);
+            let help = "a GOTO jumps within the program or subroutine it is in";
+            return self.jump_failed(Diagnostic::error(at, message).with_help(help));
+        }
+        self.jump_in_program(label, at);
+    }
+
+    /// A GOTO in the main program's lines, to a line outside every block
+    /// running: those stop, and the program reads on from the label, its
+    /// lines read again from the history of the text.
+    fn jump_in_program(&mut self, label: u64, at: Span) {
+        let Some(history) = self.history.clone() else {
+            return self.jump_failed(Diagnostic::error(at, "GOTO: the program's lines are not kept to jump to"));
+        };
+        let forward = |interpreter: &Self| interpreter.label_lines(label).into_iter().find(|found| found.line > at.line);
+        if forward(self).is_none() {
+            // Read on to it (or to the end: a Fanuc searches on, then from
+            // the start). The lines read are kept as text; if there is no
+            // jump, they run after the ones waiting.
+            let first = history.borrow().lines() + 1;
+            while self.next_line_from_program().is_some_and(|line| line.label() != Some(label)) {}
+            if history.borrow().lines() >= first {
+                let text = history.borrow().from_line(first);
+                let read = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).starting_at(first).pieces();
+                let waiting = self.replay.take().unwrap_or_else(|| Box::new(std::iter::empty()));
+                self.replay = Some(Box::new(waiting.chain(read)));
+            }
+        }
+        let Some(target) = forward(self).or_else(|| self.label_lines(label).first().copied()) else {
+            let message = format!("GOTO {label}: the program has no line N{label}");
+            let help = "a Fanuc stops with alarm 128: the sequence number is not found";
+            return self.jump_failed(Diagnostic::error(at, message).with_help(help));
+        };
+        if target.open_blocks > 0 {
+            let message = format!("GOTO {label} jumps into a loop or block, at line {}", target.line);
+            return self.jump_failed(Diagnostic::error(at, message).with_help(INTO_A_BLOCK));
+        }
+        if !self.jump_counted(at, target.line) {
+            return;
+        }
+        self.frames.clear();
+        self.ahead.clear();
+        let text = history.borrow().from_line(target.line);
+        let lexer = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).starting_at(target.line);
+        self.replay = Some(Box::new(lexer.pieces()));
+    }
+
+    /// The lines labelled `label` read so far, in order.
+    fn label_lines(&self, label: u64) -> Vec<Label> {
+        let mut found: Vec<Label> = self.labels.get(&label).copied().into_iter().collect();
+        found.extend(self.more_labels.iter().filter(|(n, _)| *n == label).map(|(_, found)| *found));
+        found.sort_by_key(|found| found.line);
+        found
+    }
+
+    /// Counts a jump back, as a loop's iteration; false if it is not taken:
+    /// the jump has gone back `limits.iterations` times, or an error came
+    /// while its lines ran. The program goes on after the GOTO then.
+    fn jump_counted(&mut self, at: Span, target: u32) -> bool {
+        if target > at.line {
+            return true;
+        }
+        self.jumped.get_or_insert(at);
+        let level = self.store.levels.len();
+        let failed = self.last_error.take().filter(|&(line, at_level)| at_level == level && (target..=at.line).contains(&line));
+        if failed.is_some() {
+            self.goto_loops.clear();
+            let message = "this GOTO stopped at the error above: it does not jump back again";
+            let help = "an error ends the loop it is in; the program goes on after it";
+            self.error(Diagnostic::error(at, message).with_help(help));
+            return false;
+        }
+        let index = match self.goto_loops.iter().position(|jump| jump.site == at.line && jump.level == level) {
+            Some(index) => index,
+            None => {
+                self.goto_loops.push(GotoLoop { site: at.line, target, level, jumps: 0 });
+                self.goto_loops.len() - 1
+            }
+        };
+        let jump = &mut self.goto_loops[index];
+        jump.target = jump.target.min(target);
+        jump.jumps += 1;
+        if jump.jumps < self.limits.iterations {
+            return true;
+        }
+        let jumps = jump.jumps;
+        self.goto_loops.remove(index);
+        let message = format!("this GOTO jumped back {jumps} times without ending: stopped");
+        let help = "raise [machine] max_iterations in ger.toml if it is meant to run longer";
+        self.error(Diagnostic::error(at, message).with_help(help));
+        false
+    }
+
+    /// A GOTO that cannot jump stops the program, as a Fanuc's alarm does.
+    fn jump_failed(&mut self, diagnostic: Diagnostic) {
+        self.error(diagnostic);
+        self.end_program();
+    }
+
+    fn end_program(&mut self) {
+        self.frames.clear();
+        self.open.clear();
+        self.ahead.clear();
+        self.replay = None;
+        self.done = true;
+    }
+
+    /// Where `label` is in the bodies running (those of loops and calls),
+    /// innermost first, not beyond the call the GOTO is in: the frame, the
+    /// index in its body and the line. Forward from the GOTO first.
+    fn label_in_frames(&self, label: u64) -> Option<(usize, usize, u32)> {
+        let first = self.frames.iter().position(|frame| !matches!(frame.kind, FrameKind::Branch))?;
+        for (index, frame) in self.frames.iter().enumerate().skip(first).rev() {
+            let at = |node: &Node| matches!(node, Node::Line(line) if line.label() == Some(label));
+            let forward = frame.body[frame.next..].iter().position(at).map(|i| i + frame.next);
+            if let Some(found) = forward.or_else(|| frame.body.iter().position(at)) {
+                let Node::Line(line) = &frame.body[found] else { unreachable!("found a line") };
+                return Some((index, found, line.number()));
+            }
+            if matches!(frame.kind, FrameKind::Call { .. }) {
+                break;
+            }
+        }
+        None
     }
 
     /// Reads on to the definition of a subroutine called above it, as
@@ -698,6 +965,50 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
 /// Fanuc's alarm parameter: setting it stops the program with a message.
 const ALARM: u32 = 3000;
+
+const INTO_A_BLOCK: &str = "a Fanuc refuses a jump into a loop (alarm 128): jump to its head, or out of it";
+
+/// A GOTO's target as a Fanuc reads it: a sequence number from 1 to 99999
+/// (a parameter's value rounded).
+fn label(value: f64, at: Span) -> Result<u64, Diagnostic> {
+    let number = value.round();
+    if (1.0..=99999.0).contains(&number) {
+        return Ok(number as u64);
+    }
+    Err(Diagnostic::error(at, format!("GOTO {value}: a line's sequence number is 1 to 99999"))
+        .with_help("a Fanuc stops with alarm 128 here"))
+}
+
+/// The next line from `source`, whole, gathered in `line`.
+fn whole_line(source: &mut impl Iterator<Item = Piece>, line: &mut Line) -> Option<Line> {
+    loop {
+        match source.next() {
+            Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
+                let mut line = std::mem::take(line);
+                line.end = Some(token);
+                return Some(line);
+            }
+            Some(item) => line.items.push(item),
+            None => {
+                let line = std::mem::take(line);
+                return (!line.items.is_empty()).then_some(line);
+            }
+        }
+    }
+}
+
+/// The head of the block inside `body` whose lines have `label`, if any.
+fn label_inside(body: &[Node], label: u64) -> Option<Control> {
+    let has = |body: &[Node]| {
+        body.iter().any(|node| matches!(node, Node::Line(line) if line.label() == Some(label)))
+            || label_inside(body, label).is_some()
+    };
+    body.iter().find_map(|node| match node {
+        Node::Loop(block) if has(&block.body) => Some(block.head.clone()),
+        Node::If(branches) => branches.iter().find(|(_, body)| has(body)).map(|(head, _)| head.clone()),
+        _ => None,
+    })
+}
 
 /// Where a line sets the alarm, if it does.
 fn alarm(assignments: &[(Target, f64, Span)]) -> Option<Span> {
@@ -997,5 +1308,91 @@ mod tests {
             flat("WHILE [1] DO1\nEND2"),
             ["3:1: error: END2 has no block DO2 to belong to", "2:1: error: WHILE ... DO1 is never closed"]
         );
+    }
+
+    fn limited(iterations: u64, blocks: u64) -> Config {
+        let limits = RunLimits { iterations, blocks };
+        Config { dialect: DialectConfig { limits, ..Dialect::Lenient.into() }, units: Units::Mm, ..Config::default() }
+    }
+
+    #[test]
+    fn fanuc_goto_jumps_forward_and_back() {
+        // Forward: the lines between are passed over; `GOTO20` and `IF[...]GOTO` glued, as Fanuc reads them.
+        same_as_twin(
+            "G21 G90\n#1 = 1\nIF [#1 EQ 1] GOTO 20\nG01 X5 F10\nN20 G01 X1 F10\nGOTO30\nG01 Y9\nN30 IF[#1 EQ 2]GOTO20\nG00 Z5\nM30",
+            "G21 G90\nG01 X1 F10\nG00 Z5\nM30",
+        );
+        // Back: a loop made of a label and a conditional jump, three passes.
+        same_as_twin(
+            "G21 G90\n#1 = 0\nN10 G01 X#1 F100\n#1 = #1 + 1\nIF [#1 LT 3] GOTO 10\nG00 Z5\nM30",
+            "G21 G90\nG01 X0 F100\nG01 X1\nG01 X2\nG00 Z5\nM30",
+        );
+        // The target may be a parameter or an expression (rounded, as a Fanuc reads an address).
+        same_as_twin(
+            "G21 G90\n#5 = 40.2\nGOTO #5\nN30 G01 X3 F10\nGOTO [#5 + 9.8]\nN40 G01 X4 F10\nGOTO 30\nN50 M30",
+            "G21 G90\nG01 X4 F10\nG01 X3\nM30",
+        );
+        // Nested GOTO loops: two rows of three, each pass of the inner loop counted afresh.
+        same_as_twin(
+            "G21 G90 F50\n#2 = 0\nN1 #1 = 0\nN2 G01 X#1 Y#2\n#1 = #1 + 1\nIF [#1 LT 3] GOTO 2\n#2 = #2 + 1\nIF [#2 LT 2] GOTO 1\nM30",
+            "G21 G90 F50\nG01 X0 Y0\nG01 X1 Y0\nG01 X2 Y0\nG01 X0 Y1\nG01 X1 Y1\nG01 X2 Y1\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_goto_leaves_loops_and_jumps_within_them() {
+        // Out of a WHILE, forward: the loop stops at its third pass.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [1] DO1\n#1 = #1 + 1\nIF [#1 GE 3] GOTO 99\nG01 X#1\nEND1\nG01 Y9\nN99 G00 Z5\nM30",
+            "G21 G90 F50\nG01 X1\nG01 X2\nG00 Z5\nM30",
+        );
+        // Within the loop's body (forward), and out of it back to a line before it: the loop starts again.
+        same_as_twin(
+            "G21 G90 F50\n#2 = 0\nN5 #1 = 0\n#2 = #2 + 1\nWHILE [#1 LT 2] DO1\n#1 = #1 + 1\nIF [#1 EQ 1] GOTO 8\nG01 Y#2\nN8 G01 X#1\nIF [#2 LT 2] GOTO 5\nEND1\nM30",
+            "G21 G90 F50\nG01 X1\nG01 X1\nG01 Y2\nG01 X2\nM30",
+        );
+        // Back within the body: the label is the loop's own line.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 1] DO1\nN7 #1 = #1 + 1\nG01 X#1\nIF [#1 LT 3] GOTO 7\nEND1\nM30",
+            "G21 G90 F50\nG01 X1\nG01 X2\nG01 X3\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_goto_refuses_a_jump_into_a_loop_or_to_no_line() {
+        // Into a loop, from before it (read on to it) and from after it (kept): an error, and the program ends.
+        let got = flat("GOTO 5\nWHILE [1] DO1\nN5 G01 X1 F10\nEND1\nG01 Y1 F10");
+        assert_eq!(got, ["2:1: error: GOTO 5 jumps into a loop or block, at line 4"]);
+        let got = flat("#1 = 0\nWHILE [#1 LT 1] DO1\nN5 G01 X1 F10\n#1 = 1\nEND1\nGOTO 5\nG01 Y1 F10");
+        assert_eq!(got, ["G01 X1.000 F10.000", "7:1: error: GOTO 5 jumps into a loop or block, at line 4"]);
+        // From a loop into another one nested in it.
+        let got = flat("WHILE [1] DO1\nGOTO 6\nWHILE [1] DO2\nN6 G01 X1 F10\nEND2\nEND1");
+        assert_eq!(got, ["3:1: error: GOTO 6 jumps into WHILE ... DO2, at line 4"]);
+        assert_eq!(flat("G01 X1 F10\nGOTO 7\nG01 Y1"), ["G01 X1.000 F10.000", "3:1: error: GOTO 7: the program has no line N7"]);
+        assert_eq!(flat("GOTO 0\nG01 Y1 F10"), ["2:1: error: GOTO 0: a line's sequence number is 1 to 99999", "G01 Y1.000 F10.000"]);
+        // A subroutine's GOTO stays in it.
+        let got = flat("N1 G01 X1 F10\no9 sub\nGOTO 1\no9 endsub\no9 call\nG01 Y1");
+        assert_eq!(got[1], "4:1: error: GOTO 1: o9 has no line N1");
+    }
+
+    #[test]
+    fn a_goto_loop_that_does_not_end_is_stopped() {
+        // Each jump back is an iteration: five passes run, the fifth jump is not taken.
+        let got = run_with("G21 G01 F10\n#1 = 0\nN1 #1 = #1 + 1\nG01 X#1\nGOTO 1\nG01 Y1", &limited(5, 1000), 4);
+        assert_eq!(got.iter().filter(|line| line.starts_with("G01 X")).count(), 5, "{got:?}");
+        assert_eq!(got[got.len() - 2], "5:1: error: this GOTO jumped back 5 times without ending: stopped", "{got:?}");
+        assert_eq!(got[got.len() - 1], "G01 Y1.000");
+        // A jump to its own line, and loops that each end but together run too long: the blocks' budget.
+        let got = run_with("G21 G01 F10\nN1 GOTO 1", &limited(1_000_000, 100), 4);
+        assert_eq!(got, ["2:4: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]);
+        let program = "G21 G01 F10\n#2 = 0\nN1 #1 = 0\nN2 #1 = #1 + 1\nIF [#1 LT 30] GOTO 2\n#2 = #2 + 1\nIF [#2 LT 30] GOTO 1\nG01 X1";
+        let got = run_with(program, &limited(40, 100), 4);
+        assert_eq!(got, ["5:15: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]);
+        // An error while its lines run stops it once, and the program goes on after it.
+        let got = flat("#1 = 0\nN1 #1 = #1 + 1\nG01 X[1/0] F10\nIF [#1 LT 1000] GOTO 1\nG01 Y1 F10");
+        assert_eq!(got.len(), 3, "{got:?}");
+        assert!(got[0].starts_with("4:") && got[0].contains("division by zero"), "{got:?}");
+        assert_eq!(got[1], "5:17: error: this GOTO stopped at the error above: it does not jump back again");
+        assert_eq!(got[2], "G01 Y1.000 F10.000");
     }
 }

@@ -20,7 +20,7 @@ use crate::macros::Interpreter;
 use crate::parse::parse_in;
 pub use crate::parse::Event;
 use crate::state;
-use crate::statement::Statement;
+use crate::statement::{Dialect, Statement};
 use crate::wizard::Wizards;
 
 pub mod p00_subprograms;
@@ -123,7 +123,14 @@ pub struct Options<'a> {
 /// before any pass. The lenient dialect's parameters and expressions are
 /// worked out between the two, by the interpreter stage.
 pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
-    let tokens = Interpreter::new(Lexer::in_dialect(program, dialect.name).pieces(), dialect.limits);
+    let lexer = Lexer::in_dialect(program, dialect.name);
+    let tokens = if dialect.name == Dialect::Lenient {
+        // The lines' text is kept for a backward GOTO to read them again.
+        let history = crate::lex::SharedHistory::default();
+        Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits).with_history(history)
+    } else {
+        Interpreter::new(lexer.pieces(), dialect.limits)
+    };
     parse_in(tokens, dialect.name).with_code_lists(dialect.codes.clone())
 }
 
