@@ -41,7 +41,7 @@ const RETURNED: &str = "_value";
 const MAX_CALL_DEPTH: usize = 100;
 
 /// The parameters of one call level: `#1`-`#30` and the names without `_`.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Locals {
     numbered: [f64; LOCALS],
     named: HashMap<String, f64>,
@@ -144,6 +144,25 @@ impl Line {
         })
     }
 
+    /// The words of the line, after its values are worked out.
+    fn words(&self) -> impl Iterator<Item = (char, f64, Span)> + '_ {
+        self.items.iter().filter_map(|item| match item {
+            Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Word { letter, value }, span })) => {
+                Some((*letter, *value, *span))
+            }
+            _ => None,
+        })
+    }
+
+    /// Whether the line has code: anything but comments and diagnostics.
+    fn is_code(&self) -> bool {
+        self.items.iter().any(|item| match item {
+            Piece::Lexed(Lexed::Token(token)) => !matches!(token.kind, TokenKind::Comment(_) | TokenKind::End),
+            Piece::Lexed(Lexed::Diagnostic(_)) => false,
+            Piece::Macro(..) => true,
+        })
+    }
+
     /// The line's O-word control, if it is a control line.
     fn control(&self) -> Option<&Control> {
         self.items.iter().find_map(|item| match item {
@@ -196,7 +215,9 @@ struct Frame {
 enum FrameKind {
     Branch,
     Loop { block: Rc<Loop>, iterations: u64, remaining: u64 },
-    Call { origin: Arc<Origin> },
+    /// A call: with locals of its own (O-word `call`, G65: those it starts
+    /// with, again for each repeat) or the caller's (M98); run `remaining` times more.
+    Call { origin: Arc<Origin>, locals: Option<Box<Locals>>, remaining: u64 },
 }
 
 /// Runs over the lexer's tokens a line at a time: turns expression words
@@ -239,6 +260,11 @@ pub struct Interpreter<L> {
     jumped: Option<Span>,
     /// The backward GOTOs whose lines are running, with how often each jumped.
     goto_loops: Vec<GotoLoop>,
+    /// Fanuc's programs after the main one (`O1000` to `M99`) are read as
+    /// blocks, and `M98`/`G65` run them here (lenient dialect).
+    fanuc_programs: bool,
+    /// The program's first line of code: an `O` number there is its name.
+    first_code_line: Option<u32>,
     /// The line and call level of the last error since a GOTO jumped back:
     /// a GOTO does not jump back over it again.
     last_error: Option<(u32, usize)>,
@@ -283,6 +309,8 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             jumped: None,
             goto_loops: Vec::new(),
             last_error: None,
+            fanuc_programs: false,
+            first_code_line: None,
         }
     }
 
@@ -293,10 +321,39 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         self
     }
 
+    /// Reads Fanuc's programs after the main one (`O1000` ... `M99`) and runs
+    /// them at `M98 P1000` and `G65 P1000` (lenient dialect): a program's
+    /// parameters are those of the moment it is called.
+    pub fn running_fanuc_programs(mut self) -> Interpreter<L> {
+        self.fanuc_programs = true;
+        self
+    }
+
+    /// The block a line opens or closes as a Fanuc program: `O1000` (but
+    /// the program's own name, on its first line of code) or `M99`.
+    fn fanuc_block(&self, line: &Line) -> Option<Control> {
+        if !self.fanuc_programs {
+            return None;
+        }
+        let mut words = line.words();
+        let (letter, value, span) = words.next()?;
+        let keyword = match letter {
+            'O' if self.first_code_line != Some(line.number()) && value >= 0.0 && value.fract() == 0.0 => {
+                Keyword::Program
+            }
+            _ if std::iter::once((letter, value, span)).chain(words).any(|(l, v, _)| l == 'M' && v == 99.0) => {
+                Keyword::EndProgram
+            }
+            _ => return None,
+        };
+        let label = if keyword == Keyword::Program { format!("O{}", value as u64) } else { String::new() };
+        Some(Control { label, keyword, args: Vec::new(), span, fanuc: true })
+    }
+
     /// The call the running line is in, for its diagnostics.
     fn origin(&self) -> Option<Arc<Origin>> {
         self.frames.iter().rev().find_map(|frame| match &frame.kind {
-            FrameKind::Call { origin } => Some(origin.clone()),
+            FrameKind::Call { origin, .. } => Some(origin.clone()),
             _ => None,
         })
     }
@@ -330,7 +387,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         };
         let (head, iteration) = (block.head.clone(), iterations + 1);
         for frame in self.frames.drain(outermost..) {
-            if matches!(frame.kind, FrameKind::Call { .. }) {
+            if matches!(frame.kind, FrameKind::Call { locals: Some(_), .. }) {
                 self.store.levels.pop();
             }
         }
@@ -401,11 +458,31 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         if let (None, Some(span)) = (&failed, alarm(&assignments)) {
             failed = Some(self.alarm(line, &assignments, span));
         }
+        if failed.is_none() && self.in_fanuc_program() {
+            failed = ends_program(&tokens);
+        }
         let jump = jump.filter(|_| failed.is_none());
+        let mut call = None;
+        if let Some(found) = fanuc_call(&tokens).filter(|_| failed.is_none() && self.fanuc_programs) {
+            match self.prepare_call(found) {
+                Ok(ready) => call = ready,
+                Err(diagnostic) => failed = Some(diagnostic),
+            }
+        }
         match failed {
             Some(diagnostic) => self.error(diagnostic),
             None => {
-                self.out.extend(tokens.into_iter().map(Lexed::Token));
+                // A call's own words go no further: its body runs in their place.
+                let kept = |token: &Token| match (&call, &token.kind) {
+                    (Some(Ready { locals: Some(_), .. }), TokenKind::Word { .. }) => false,
+                    (Some(_), TokenKind::Word { letter, value }) => !matches!((letter, value), ('M', 98.0) | ('P' | 'L', _)),
+                    _ => true,
+                };
+                self.out.extend(tokens.into_iter().filter(kept).map(Lexed::Token));
+                if let Some(&(_, _, span)) = assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(PAUSE))) {
+                    // Fanuc's #3006 = n (MESSAGE): a stop with the message, which the line's comment carries.
+                    self.out.push_back(Lexed::Token(Token { kind: TokenKind::Word { letter: 'M', value: 0.0 }, span }));
+                }
                 for (target, value, _) in assignments {
                     self.store.set(target, value);
                 }
@@ -415,6 +492,83 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         if let Some((label, span)) = jump {
             self.goto(label, span);
         }
+        if let Some(ready) = call {
+            self.push_call(ready);
+        }
+    }
+
+    /// The program a `M98` or `G65` line calls, found (read ahead for if it
+    /// follows), with the locals a G65 gives it. `None` for an M98 whose
+    /// program is not in the file: pass 00 looks for it beside the program.
+    fn prepare_call(&mut self, call: FanucCall) -> Result<Option<Ready>, Diagnostic> {
+        let code = if call.macro_call { "G65" } else { "M98" };
+        let number = call.program.filter(|p| *p >= 0.0 && p.fract() == 0.0);
+        let Some(number) = number else {
+            if !call.macro_call {
+                return Ok(None);
+            }
+            let message = "G65 needs P, the number of the program it calls (a whole number)";
+            return Err(Diagnostic::error(call.at, message).with_help("G65 P1000 A1 B2 calls O1000 with #1 = 1, #2 = 2"));
+        };
+        let label = format!("O{}", number as u64);
+        if !self.subs.contains_key(&label) && !self.look_ahead_for(&label) {
+            if !call.macro_call {
+                return Ok(None);
+            }
+            let message = format!("G65 calls {label}, which is not in the program");
+            return Err(Diagnostic::error(call.at, message).with_help(format!("define it after M30: {label} ... M99")));
+        }
+        if call.repeat < 0.0 || call.repeat.fract() != 0.0 {
+            let message = format!("{code} L{}: the number of times must be whole, 0 or more", call.repeat);
+            return Err(Diagnostic::error(call.at, message));
+        }
+        let locals = if call.macro_call {
+            let mut locals = Locals::default();
+            let mut given = [false; LOCALS];
+            for (letter, value, span) in call.args {
+                let Some(number) = argument(letter) else {
+                    let message = format!("{letter} is not one of G65's arguments");
+                    let help = "G65's arguments are A-F, H-K, M and Q-Z (into #1-#26); P names the program, L repeats it";
+                    return Err(Diagnostic::error(span, message).with_help(help));
+                };
+                if std::mem::replace(&mut given[number - 1], true) {
+                    let message = format!("{letter} is given twice: ger reads Fanuc's first form of arguments only");
+                    let help = "each letter once: A -> #1, B -> #2, C -> #3, I -> #4, ...";
+                    return Err(Diagnostic::error(span, message).with_help(help));
+                }
+                locals.numbered[number - 1] = value;
+            }
+            Some(locals)
+        } else {
+            None
+        };
+        let sub = self.subs[&label].clone();
+        let origin = Arc::new(Origin { what: label, call: call.at, parent: self.origin() });
+        Ok(Some(Ready { sub, origin, locals, repeat: call.repeat as u64 }))
+    }
+
+    fn push_call(&mut self, ready: Ready) {
+        if ready.repeat == 0 {
+            return;
+        }
+        if self.call_depth() >= MAX_CALL_DEPTH {
+            let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
+            return self.error(Diagnostic::error(ready.origin.call, message));
+        }
+        if let Some(locals) = &ready.locals {
+            self.store.levels.push(locals.clone());
+        }
+        let kind = FrameKind::Call { origin: ready.origin, locals: ready.locals.map(Box::new), remaining: ready.repeat };
+        self.frames.push(Frame { body: ready.sub.body.clone(), next: 0, kind });
+    }
+
+    /// Whether the line running is in a program M98 or G65 called.
+    fn in_fanuc_program(&self) -> bool {
+        self.frames.iter().any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with('O')))
+    }
+
+    fn call_depth(&self) -> usize {
+        self.frames.iter().filter(|frame| matches!(frame.kind, FrameKind::Call { .. })).count()
     }
 
     /// Fanuc's `#3000 = n (MESSAGE)`: the program stops with an alarm.
@@ -432,7 +586,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// A line read from the program: run it, or keep it in the block being read.
     fn read(&mut self, line: Line) {
-        let Some(control) = line.control().cloned() else {
+        let program = self.fanuc_block(&line).filter(|control| {
+            control.keyword == Keyword::Program
+                || self.open.last().is_some_and(|open| open.head.keyword == Keyword::Program)
+        });
+        let program = program.map(|control| match self.open.last() {
+            Some(open) if control.keyword == Keyword::EndProgram => Control { label: open.head.label.clone(), ..control },
+            _ => control,
+        });
+        let Some(control) = program.or_else(|| line.control().cloned()) else {
             return self.add(Node::Line(line));
         };
         // The line's diagnostics and end still go out, in their place.
@@ -453,7 +615,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             open.head.label == control.label && keywords.contains(&open.head.keyword)
         };
         match control.keyword {
-            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat => self.open_block(control),
+            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat | Keyword::Program => self.open_block(control),
             Keyword::While if !self.open.last().is_some_and(|open| closes(open, &[Keyword::Do])) => {
                 self.open_block(control)
             }
@@ -471,6 +633,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                     Keyword::EndIf => &[Keyword::If, Keyword::ElseIf, Keyword::Else],
                     Keyword::EndWhile => &[Keyword::While],
                     Keyword::EndRepeat => &[Keyword::Repeat],
+                    Keyword::EndProgram => &[Keyword::Program],
                     _ => &[Keyword::Do],
                 };
                 if !self.open.last().is_some_and(|open| closes(open, wanted)) {
@@ -482,7 +645,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 }
                 let body: Body = open.nodes.into();
                 let node = match control.keyword {
-                    Keyword::EndSub => Node::Sub(Rc::new(Sub { head: open.head, body })),
+                    Keyword::EndSub | Keyword::EndProgram => Node::Sub(Rc::new(Sub { head: open.head, body })),
                     Keyword::EndIf => {
                         let mut branches = open.branches;
                         branches.push((open.head, body));
@@ -530,6 +693,17 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         }
         match node {
             Node::Line(line) => self.run_line(line),
+            // A Fanuc program's first definition is the one calls run, as in pass 00.
+            Node::Sub(sub) if sub.head.keyword == Keyword::Program => {
+                if self.subs.contains_key(&sub.head.label) {
+                    // LinuxCNC runs the first and reads past the second.
+                    let message = format!("{} is defined again: calls run its first definition", sub.head.label);
+                    let help = "give each subprogram its own number, or remove the one that never runs";
+                    self.diagnostic(Diagnostic::warning(sub.head.span, message).with_help(help));
+                } else {
+                    self.subs.insert(sub.head.label.clone(), sub.clone());
+                }
+            }
             Node::Sub(sub) => {
                 self.subs.insert(sub.head.label.clone(), sub.clone());
             }
@@ -578,7 +752,10 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// The innermost body has run to its end.
     fn end_of_body(&mut self) {
-        let looping = matches!(self.frames.last().map(|frame| &frame.kind), Some(FrameKind::Loop { .. }));
+        let looping = matches!(
+            self.frames.last().map(|frame| &frame.kind),
+            Some(FrameKind::Loop { .. } | FrameKind::Call { remaining: 2.., .. })
+        );
         // A loop's end and its test are a block run again, each time.
         if looping && !self.count_block() {
             return;
@@ -587,6 +764,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         match &mut frame.kind {
             FrameKind::Branch => {
                 self.frames.pop();
+            }
+            FrameKind::Call { remaining, locals, .. } if *remaining > 1 => {
+                // M98 P.. L.., G65 P.. L..: the body again, a G65's with its arguments again.
+                *remaining -= 1;
+                frame.next = 0;
+                if let Some(locals) = locals {
+                    let again = (**locals).clone();
+                    *self.store.level() = again;
+                }
             }
             FrameKind::Call { .. } => self.leave_call(),
             FrameKind::Loop { block, iterations, remaining } => {
@@ -630,7 +816,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     fn count_block(&mut self) -> bool {
         let outermost = self.frames.iter().find_map(|frame| match &frame.kind {
             FrameKind::Loop { block, .. } => Some(block.head.span),
-            FrameKind::Call { origin } => Some(origin.call),
+            FrameKind::Call { origin, .. } => Some(origin.call),
             FrameKind::Branch => None,
         });
         let by_jump = outermost.is_none();
@@ -652,8 +838,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     }
 
     fn leave_call(&mut self) {
-        self.frames.pop();
-        self.store.levels.pop();
+        if let Some(Frame { kind: FrameKind::Call { locals: Some(_), .. }, .. }) = self.frames.pop() {
+            self.store.levels.pop();
+        }
     }
 
     fn simple(&mut self, control: &Control) {
@@ -709,7 +896,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             return self.error(Diagnostic::error(control.span, message).with_help(help));
         }
         let sub = self.subs[&control.label].clone();
-        if self.store.levels.len() > MAX_CALL_DEPTH {
+        if self.call_depth() >= MAX_CALL_DEPTH {
             let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
             return self.error(Diagnostic::error(control.span, message));
         }
@@ -721,8 +908,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             }
         }
         let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
+        let kind = FrameKind::Call { origin, locals: Some(Box::new(locals.clone())), remaining: 1 };
         self.store.levels.push(locals);
-        self.frames.push(Frame { body: sub.body.clone(), next: 0, kind: FrameKind::Call { origin } });
+        self.frames.push(Frame { body: sub.body.clone(), next: 0, kind });
     }
 
     /// The next line, whole: one read again after a GOTO, or the program's
@@ -747,6 +935,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// A line read for the first time: where its label is, and the blocks
     /// it opens or closes.
     fn note(&mut self, line: &Line) {
+        if self.first_code_line.is_none() && line.is_code() {
+            self.first_code_line = Some(line.number());
+        }
         if let Some(number) = line.label() {
             let label = Label { line: line.number(), open_blocks: self.structure.len() as u32 };
             match self.labels.entry(number) {
@@ -756,7 +947,8 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 std::collections::hash_map::Entry::Occupied(_) => self.more_labels.push((number, label)),
             }
         }
-        let Some(control) = line.control() else { return };
+        let fanuc = self.fanuc_block(line);
+        let Some(control) = fanuc.as_ref().or(line.control()) else { return };
         let top = self.structure.last();
         let closes = |keywords: &[Keyword]| {
             top.is_some_and(|open| open.label == control.label && keywords.contains(&open.keyword))
@@ -768,11 +960,16 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             Keyword::EndIf => closes(&[Keyword::If]),
             Keyword::EndWhile => closes(&[Keyword::While]),
             Keyword::EndRepeat => closes(&[Keyword::Repeat]),
+            Keyword::Program => false,
+            Keyword::EndProgram => top.is_some_and(|open| open.keyword == Keyword::Program),
             _ => return,
         };
         if close {
             self.structure.pop();
-        } else if !matches!(control.keyword, Keyword::EndSub | Keyword::EndIf | Keyword::EndWhile | Keyword::EndRepeat) {
+        } else if !matches!(
+            control.keyword,
+            Keyword::EndSub | Keyword::EndIf | Keyword::EndWhile | Keyword::EndRepeat | Keyword::EndProgram
+        ) {
             self.structure.push(control.clone());
         }
     }
@@ -929,7 +1126,8 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// of that part meanwhile). True if it was found.
     fn look_ahead_for(&mut self, label: &str) -> bool {
         while let Some(line) = self.next_line() {
-            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label);
+            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label)
+                || self.fanuc_block(&line).is_some_and(|c| c.keyword == Keyword::Program && c.label == label);
             if !defines {
                 self.ahead.push_back(line);
                 continue;
@@ -965,6 +1163,92 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
 /// Fanuc's alarm parameter: setting it stops the program with a message.
 const ALARM: u32 = 3000;
+
+/// Fanuc's pause parameter: setting it stops the program (M00) with a message.
+const PAUSE: u32 = 3006;
+
+/// A call to a Fanuc program: `M98 P.. L..`, or `G65 P.. L..` and its arguments.
+struct FanucCall {
+    macro_call: bool,
+    at: Span,
+    program: Option<f64>,
+    repeat: f64,
+    args: Vec<(char, f64, Span)>,
+}
+
+/// A call found and ready to run.
+struct Ready {
+    sub: Rc<Sub>,
+    origin: Arc<Origin>,
+    /// A G65's locals; an M98 shares its caller's.
+    locals: Option<Locals>,
+    repeat: u64,
+}
+
+/// The call a line makes, if it has `G65` or `M98`.
+fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
+    let words = || {
+        tokens.iter().filter_map(|token| match token.kind {
+            TokenKind::Word { letter, value } => Some((letter, value, token.span)),
+            _ => None,
+        })
+    };
+    let (macro_call, at) = words().find_map(|(letter, value, span)| match (letter, value) {
+        ('G', 65.0) => Some((true, span)),
+        ('M', 98.0) => Some((false, span)),
+        _ => None,
+    })?;
+    let value = |wanted: char| words().find(|(letter, ..)| *letter == wanted).map(|(_, value, _)| value);
+    let args = if macro_call {
+        words().filter(|(letter, value, _)| !matches!((letter, value), ('G', 65.0) | ('P' | 'L', _))).collect()
+    } else {
+        Vec::new()
+    };
+    Some(FanucCall { macro_call, at, program: value('P'), repeat: value('L').unwrap_or(1.0), args })
+}
+
+/// M30, M2 or M47 in a called program, as pass 00 says of them in a subprogram.
+fn ends_program(tokens: &[Token]) -> Option<Diagnostic> {
+    tokens.iter().find_map(|token| match token.kind {
+        TokenKind::Word { letter: 'M', value } if value == 47.0 => Some(
+            Diagnostic::error(token.span, "M47 inside a subprogram")
+                .with_help("M47 repeats the main program; a subprogram repeats with M98 P.. L.."),
+        ),
+        TokenKind::Word { letter: 'M', value } if value == 30.0 || value == 2.0 => Some(
+            Diagnostic::error(token.span, format!("M{value} inside a subprogram"))
+                .with_help("a subprogram returns with M99; M30 ends the main program"),
+        ),
+        _ => None,
+    })
+}
+
+/// The local a G65 argument letter sets, as Fanuc's first form of arguments maps them.
+fn argument(letter: char) -> Option<usize> {
+    const LETTERS: [(char, usize); 21] = [
+        ('A', 1),
+        ('B', 2),
+        ('C', 3),
+        ('I', 4),
+        ('J', 5),
+        ('K', 6),
+        ('D', 7),
+        ('E', 8),
+        ('F', 9),
+        ('H', 11),
+        ('M', 13),
+        ('Q', 17),
+        ('R', 18),
+        ('S', 19),
+        ('T', 20),
+        ('U', 21),
+        ('V', 22),
+        ('W', 23),
+        ('X', 24),
+        ('Y', 25),
+        ('Z', 26),
+    ];
+    LETTERS.iter().find(|(known, _)| *known == letter).map(|(_, number)| *number)
+}
 
 const INTO_A_BLOCK: &str = "a Fanuc refuses a jump into a loop (alarm 128): jump to its head, or out of it";
 
@@ -1394,5 +1678,70 @@ mod tests {
         assert!(got[0].starts_with("4:") && got[0].contains("division by zero"), "{got:?}");
         assert_eq!(got[1], "5:17: error: this GOTO stopped at the error above: it does not jump back again");
         assert_eq!(got[2], "G01 Y1.000 F10.000");
+    }
+
+    #[test]
+    fn g65_calls_a_program_with_its_arguments_in_locals() {
+        // A macro after M30, called above it: X -> #24, Y -> #25, Z -> #26, R -> #18.
+        same_as_twin(
+            "G21 G90 F100\nG65 P9000 X10 Y20 Z-1 R2\nG65 P9000 X30 Y5 Z-2 R2\nM30\nO9000 (DRILL)\nG00 X#24 Y#25 Z#18\nG01 Z#26\nG00 Z#18\nM99",
+            "G21 G90 F100\nG00 X10 Y20 Z2\nG01 Z-1\nG00 Z2\nG00 X30 Y5 Z2\nG01 Z-2\nG00 Z2\nM30",
+        );
+        // Every letter of Fanuc's first form lands in its local; unset ones read 0.
+        same_as_twin(
+            "G21 G90 F100\nG65 P1 A1 B2 C3 I4 J5 K6 D7 E8 F9 H11 M13 Q17 R18 S19 T20 U21 V22 W23 X24 Y25 Z26\nM30\n\
+             O1\n#30 = #1 + #2 * 10 + #3 * 100\nG01 X#30 Y[#4 + #5 + #6 + #7 + #8 + #9 + #11 + #13] Z[#17 + #18 + #19 + #20 + #21 + #22 + #23 + #10]\n\
+             G01 X#24 Y#25 Z#26\nM99",
+            "G21 G90 F100\nG01 X321 Y63 Z140\nG01 X24 Y25 Z26\nM30",
+        );
+        // The caller's locals come back after the call; common parameters are shared; L repeats
+        // it with its arguments each time.
+        same_as_twin(
+            "G21 G90 F100\n#1 = 7\n#100 = 0\nG65 P2 A3 L2\nG01 X#1 Y#100\nM30\nO2\n#100 = #100 + #1\n#1 = 50\nG01 X#100\nM99",
+            "G21 G90 F100\nG01 X3\nG01 X6\nG01 X7 Y6\nM30",
+        );
+        // A macro with a loop and a jump of its own: a bolt circle of #11 holes on radius #18.
+        same_as_twin(
+            "G21 G90 F100\nG65 P8000 H4 R10 Z-1\nG00 Z5\nM30\nO8000\n#1 = 0\nWHILE [#1 LT #11] DO1\n\
+             G00 X[#18 * COS[360 * #1 / #11]] Y[#18 * SIN[360 * #1 / #11]]\nIF [#1 EQ 2] GOTO 10\nG01 Z#26\nG00 Z1\nN10 #1 = #1 + 1\nEND1\nM99",
+            "G21 G90 F100\nG00 X10 Y0\nG01 Z-1\nG00 Z1\nG00 X0 Y10\nG01 Z-1\nG00 Z1\nG00 X-10 Y0\n\
+             G00 X0 Y-10\nG01 Z-1\nG00 Z1\nG00 Z5\nM30",
+        );
+    }
+
+    #[test]
+    fn m98_runs_its_program_with_the_parameters_of_the_moment() {
+        // #100 is read when each call runs, not where the program is written; M98 shares
+        // the caller's locals (#1), as on a Fanuc.
+        same_as_twin(
+            "G21 G90 F100\n#100 = 5\n#1 = 1\nM98 P1000\n#100 = 10\nM98 P1000 L2\nG01 Y#1\nM30\nO1000\nG01 X#100\n#100 = #100 + 1\n#1 = #1 + 1\nM99",
+            "G21 G90 F100\nG01 X5\nG01 X10\nG01 X11\nG01 Y4\nM30",
+        );
+        // Other words of an M98 line run before the call; a program defined above its call.
+        same_as_twin(
+            "G21 G90 F100\nM98 P3 L0\nO3\nG01 Z#500\nM99\n#500 = -2\nG01 X1 M98 P3\nM30",
+            "G21 G90 F100\nG01 X1\nG01 Z-2\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_calls_refuse_what_they_cannot_run() {
+        assert_eq!(
+            flat("G65 A1\nG01 X1 F10"),
+            ["2:1: error: G65 needs P, the number of the program it calls (a whole number)", "G01 X1.000 F10.000"]
+        );
+        assert_eq!(flat("G65 P77 A1\nG01 X1 F10"), ["2:1: error: G65 calls O77, which is not in the program", "G01 X1.000 F10.000"]);
+        let got = flat("G65 P5 A1 A2\nM30\nO5\nG01 X#1 F10\nM99");
+        assert_eq!(got[0], "2:11: error: A is given twice: ger reads Fanuc's first form of arguments only");
+        let got = flat("G65 P5 G01\nM30\nO5\nG01 X#1 F10\nM99");
+        assert_eq!(got[0], "2:8: error: G is not one of G65's arguments");
+        // A program that calls itself without end is stopped.
+        let got = flat("M98 P6\nM30\nO6\nM98 P6\nM99");
+        assert_eq!(got[0], "5:1: error: calls nest more than 100 deep: a recursion that does not end?");
+    }
+
+    #[test]
+    fn fanuc_pause_is_a_stop_with_its_message() {
+        same_as_twin("G21 G90\n#3006 = 1 (TURN THE PART)\nG01 X1 F10\nM30", "G21 G90\nM00 (TURN THE PART)\nG01 X1 F10\nM30");
     }
 }

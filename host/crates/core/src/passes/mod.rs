@@ -127,7 +127,9 @@ pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl I
     let tokens = if dialect.name == Dialect::Lenient {
         // The lines' text is kept for a backward GOTO to read them again.
         let history = crate::lex::SharedHistory::default();
-        Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits).with_history(history)
+        Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits)
+            .with_history(history)
+            .running_fanuc_programs()
     } else {
         Interpreter::new(lexer.pieces(), dialect.limits)
     };
