@@ -217,7 +217,8 @@ enum FrameKind {
     Loop { block: Rc<Loop>, iterations: u64, remaining: u64 },
     /// A call: with locals of its own (O-word `call`, G65: those it starts
     /// with, again for each repeat) or the caller's (M98); run `remaining` times more.
-    Call { origin: Arc<Origin>, locals: Option<Box<Locals>>, remaining: u64 },
+    /// A program from a file of its own (`file`) says its lines are the call's.
+    Call { origin: Arc<Origin>, locals: Option<Box<Locals>>, remaining: u64, file: bool },
 }
 
 /// Runs over the lexer's tokens a line at a time: turns expression words
@@ -225,7 +226,7 @@ enum FrameKind {
 /// O-word control lines. A block (`sub`, `if`, a loop) is read whole before
 /// it runs and kept while it does; everything else streams. A line with an
 /// error gives the parser nothing of it but its diagnostics.
-pub struct Interpreter<L> {
+pub struct Interpreter<'a, L> {
     tokens: L,
     store: Store,
     /// The line being read.
@@ -263,6 +264,10 @@ pub struct Interpreter<L> {
     /// Fanuc's programs after the main one (`O1000` to `M99`) are read as
     /// blocks, and `M98`/`G65` run them here (lenient dialect).
     fanuc_programs: bool,
+    /// Finds a program kept in a file of its own: the file's name and text.
+    files: Option<FindProgram<'a>>,
+    /// The programs found in files, and the files' names.
+    from_files: HashMap<String, String>,
     /// The program's first line of code: an `O` number there is its name.
     first_code_line: Option<u32>,
     /// The line and call level of the last error since a GOTO jumped back:
@@ -286,8 +291,8 @@ struct GotoLoop {
     jumps: u64,
 }
 
-impl<L: Iterator<Item = Piece>> Interpreter<L> {
-    pub fn new(tokens: L, limits: RunLimits) -> Interpreter<L> {
+impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
+    pub fn new(tokens: L, limits: RunLimits) -> Interpreter<'a, L> {
         Interpreter {
             tokens,
             store: Store::default(),
@@ -310,13 +315,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             goto_loops: Vec::new(),
             last_error: None,
             fanuc_programs: false,
+            files: None,
+            from_files: HashMap::new(),
             first_code_line: None,
         }
     }
 
     /// `history` holds the text of the lines the lexer has read: a backward
     /// GOTO reads them again. Without it such a jump is an error.
-    pub fn with_history(mut self, history: SharedHistory) -> Interpreter<L> {
+    pub fn with_history(mut self, history: SharedHistory) -> Interpreter<'a, L> {
         self.history = Some(history);
         self
     }
@@ -324,9 +331,71 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// Reads Fanuc's programs after the main one (`O1000` ... `M99`) and runs
     /// them at `M98 P1000` and `G65 P1000` (lenient dialect): a program's
     /// parameters are those of the moment it is called.
-    pub fn running_fanuc_programs(mut self) -> Interpreter<L> {
+    pub fn running_fanuc_programs(mut self) -> Interpreter<'a, L> {
         self.fanuc_programs = true;
         self
+    }
+
+    /// `files` finds a program the program itself does not define, in a
+    /// file of its own, as pass 00 finds M98's.
+    pub fn finding_programs(mut self, files: Option<FindProgram<'a>>) -> Interpreter<'a, L> {
+        self.files = files;
+        self
+    }
+
+    /// Where what a program from another file makes is said to come from:
+    /// the line that called it, as pass 00 says of such a program's lines.
+    fn shown_at(&self) -> Option<Span> {
+        self.frames.iter().find_map(|frame| match &frame.kind {
+            FrameKind::Call { origin, file: true, .. } => Some(origin.call),
+            _ => None,
+        })
+    }
+
+    fn emit(&mut self, mut token: Token) {
+        if let Some(span) = self.shown_at() {
+            token.span = span;
+        }
+        self.out.push_back(Lexed::Token(token));
+    }
+
+    /// A program in a file of its own, to its M99: a block as one after
+    /// M30 is, and the file's name. Its first line of code must be its O number.
+    fn program_from_file(&mut self, number: u64, label: &str) -> Option<(Rc<Sub>, String)> {
+        let (name, text) = (self.files.as_mut()?)(number as u32)?;
+        let mut lines = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).pieces();
+        let mut partial = Line::default();
+        let head = loop {
+            let line = whole_line(&mut lines, &mut partial)?;
+            if !line.is_code() {
+                continue;
+            }
+            let first = line.words().next();
+            match first {
+                Some(('O', value, span)) if value == number as f64 => {
+                    break Control { label: label.to_string(), keyword: Keyword::Program, args: Vec::new(), span, fanuc: true };
+                }
+                _ => return None,
+            }
+        };
+        // Its lines are read into a block of their own, as the program's are.
+        let around = std::mem::take(&mut self.open);
+        self.open.push(Open { head: head.clone(), nodes: Vec::new(), branches: Vec::new() });
+        while let Some(line) = whole_line(&mut lines, &mut partial) {
+            let ends = line.words().any(|(letter, value, _)| letter == 'M' && [99.0, 30.0, 2.0].contains(&value));
+            if ends && self.open.len() == 1 {
+                break;
+            }
+            self.read(line);
+        }
+        let inner = std::mem::replace(&mut self.open, around);
+        let unclosed = inner.iter().skip(1).map(|open| open.head.clone()).collect::<Vec<_>>();
+        for open in unclosed {
+            let message = format!("{} is never closed (in {name})", open.describe());
+            self.error(Diagnostic::error(open.span, message));
+        }
+        let body: Body = inner.into_iter().next()?.nodes.into();
+        Some((Rc::new(Sub { head, body }), name))
     }
 
     /// The block a line opens or closes as a Fanuc program: `O1000` (but
@@ -366,7 +435,10 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// Every diagnostic of the running program goes out here. An error in a
     /// loop stops it, as LinuxCNC stops the program at its first error: the
     /// same error is not said once an iteration, a million times.
-    fn diagnostic(&mut self, diagnostic: Diagnostic) {
+    fn diagnostic(&mut self, mut diagnostic: Diagnostic) {
+        if let Some(span) = self.shown_at() {
+            diagnostic.span = span;
+        }
         if diagnostic.is_error() && self.frames.iter().any(|frame| matches!(frame.kind, FrameKind::Loop { .. })) {
             self.stop_loops = true;
         }
@@ -478,17 +550,21 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                     (Some(_), TokenKind::Word { letter, value }) => !matches!((letter, value), ('M', 98.0) | ('P' | 'L', _)),
                     _ => true,
                 };
-                self.out.extend(tokens.into_iter().filter(kept).map(Lexed::Token));
+                for token in tokens.into_iter().filter(kept) {
+                    self.emit(token);
+                }
                 if let Some(&(_, _, span)) = assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(PAUSE))) {
                     // Fanuc's #3006 = n (MESSAGE): a stop with the message, which the line's comment carries.
-                    self.out.push_back(Lexed::Token(Token { kind: TokenKind::Word { letter: 'M', value: 0.0 }, span }));
+                    self.emit(Token { kind: TokenKind::Word { letter: 'M', value: 0.0 }, span });
                 }
                 for (target, value, _) in assignments {
                     self.store.set(target, value);
                 }
             }
         }
-        self.out.extend(line.end.clone().map(Lexed::Token));
+        if let Some(end) = line.end.clone() {
+            self.emit(end);
+        }
         if let Some((label, span)) = jump {
             self.goto(label, span);
         }
@@ -512,6 +588,12 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         };
         let label = format!("O{}", number as u64);
         if !self.subs.contains_key(&label) && !self.look_ahead_for(&label) {
+            if let Some((sub, name)) = self.program_from_file(number as u64, &label) {
+                self.from_files.insert(label.clone(), name);
+                self.subs.insert(label.clone(), sub);
+            }
+        }
+        if !self.subs.contains_key(&label) {
             if !call.macro_call {
                 return Ok(None);
             }
@@ -543,8 +625,10 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             None
         };
         let sub = self.subs[&label].clone();
-        let origin = Arc::new(Origin { what: label, call: call.at, parent: self.origin() });
-        Ok(Some(Ready { sub, origin, locals, repeat: call.repeat as u64 }))
+        let file = self.from_files.get(&label);
+        let what = file.map_or(label.clone(), |name| format!("{label} (from {name})"));
+        let origin = Arc::new(Origin { what, call: call.at, parent: self.origin() });
+        Ok(Some(Ready { sub, origin, locals, repeat: call.repeat as u64, file: file.is_some() }))
     }
 
     fn push_call(&mut self, ready: Ready) {
@@ -558,7 +642,12 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         if let Some(locals) = &ready.locals {
             self.store.levels.push(locals.clone());
         }
-        let kind = FrameKind::Call { origin: ready.origin, locals: ready.locals.map(Box::new), remaining: ready.repeat };
+        let kind = FrameKind::Call {
+            origin: ready.origin,
+            locals: ready.locals.map(Box::new),
+            remaining: ready.repeat,
+            file: ready.file,
+        };
         self.frames.push(Frame { body: ready.sub.body.clone(), next: 0, kind });
     }
 
@@ -908,7 +997,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             }
         }
         let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
-        let kind = FrameKind::Call { origin, locals: Some(Box::new(locals.clone())), remaining: 1 };
+        let kind = FrameKind::Call { origin, locals: Some(Box::new(locals.clone())), remaining: 1, file: false };
         self.store.levels.push(locals);
         self.frames.push(Frame { body: sub.body.clone(), next: 0, kind });
     }
@@ -1161,6 +1250,9 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     }
 }
 
+/// Finds program `n` in a file of its own: the file's name and its text.
+pub type FindProgram<'a> = Box<dyn FnMut(u32) -> Option<(String, Vec<u8>)> + 'a>;
+
 /// Fanuc's alarm parameter: setting it stops the program with a message.
 const ALARM: u32 = 3000;
 
@@ -1183,6 +1275,8 @@ struct Ready {
     /// A G65's locals; an M98 shares its caller's.
     locals: Option<Locals>,
     repeat: u64,
+    /// Whether the program is in a file of its own.
+    file: bool,
 }
 
 /// The call a line makes, if it has `G65` or `M98`.
@@ -1304,7 +1398,7 @@ fn unmatched(control: &Control) -> Diagnostic {
     Diagnostic::error(control.span, message).with_help("an O-word block opens and closes with the same number")
 }
 
-impl<L: Iterator<Item = Piece>> Iterator for Interpreter<L> {
+impl<L: Iterator<Item = Piece>> Iterator for Interpreter<'_, L> {
     type Item = Lexed;
 
     fn next(&mut self) -> Option<Lexed> {

@@ -123,6 +123,16 @@ pub struct Options<'a> {
 /// before any pass. The lenient dialect's parameters and expressions are
 /// worked out between the two, by the interpreter stage.
 pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
+    parse_finding(program, dialect, None)
+}
+
+/// As [`parse`], with `files` finding the programs G65 and M98 call that
+/// are kept in files of their own.
+fn parse_finding<'a, R: BufRead + 'a>(
+    program: R,
+    dialect: &DialectConfig,
+    files: Option<crate::macros::FindProgram<'a>>,
+) -> impl Iterator<Item = Event> + 'a {
     let lexer = Lexer::in_dialect(program, dialect.name);
     let tokens = if dialect.name == Dialect::Lenient {
         // The lines' text is kept for a backward GOTO to read them again.
@@ -130,6 +140,7 @@ pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl I
         Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits)
             .with_history(history)
             .running_fanuc_programs()
+            .finding_programs(files)
     } else {
         Interpreter::new(lexer.pieces(), dialect.limits)
     };
@@ -158,7 +169,8 @@ pub fn translate<'a, R: BufRead + 'a>(
         }
     };
     let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
-    let parsed = parse(program, &config.dialect);
+    let mut library = library;
+    let parsed = parse_finding(program, &config.dialect, library.take_program_texts());
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
     let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
     let stream = tapped(
