@@ -1304,7 +1304,7 @@ fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
 /// M30, M2 or M47 in a called program, as pass 00 says of them in a subprogram.
 fn ends_program(tokens: &[Token]) -> Option<Diagnostic> {
     tokens.iter().find_map(|token| match token.kind {
-        TokenKind::Word { letter: 'M', value } if value == 47.0 => Some(
+        TokenKind::Word { letter: 'M', value: 47.0 } => Some(
             Diagnostic::error(token.span, "M47 inside a subprogram")
                 .with_help("M47 repeats the main program; a subprogram repeats with M98 P.. L.."),
         ),
