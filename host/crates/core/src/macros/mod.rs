@@ -53,13 +53,25 @@ pub struct Store {
     named: HashMap<String, f64>,
     /// The call levels, the main program's first.
     levels: Vec<Locals>,
+    /// Where the tool is now, in program coordinates, as passes 01-04 have
+    /// it: #5420-#5422 and #<_x> #<_y> #<_z> read it.
+    position: Option<Position>,
 }
+
+/// The tool's position where the program has got to.
+pub type Position = Box<dyn Fn() -> [f64; 3]>;
+
+/// LinuxCNC's current position, X, Y and Z: #5420 to #5422.
+const POSITION: u32 = 5420;
+
+/// The same, by LinuxCNC's predefined names.
+const POSITION_NAMES: [&str; 3] = ["_x", "_y", "_z"];
 
 impl Default for Store {
     fn default() -> Store {
         // A subroutine's value reads 0 until one returns, as in LinuxCNC.
         let named = HashMap::from([(RETURNED.to_string(), 0.0)]);
-        Store { numbered: HashMap::new(), named, levels: vec![Locals::default()] }
+        Store { numbered: HashMap::new(), named, levels: vec![Locals::default()], position: None }
     }
 }
 
@@ -86,6 +98,9 @@ impl Store {
 
 impl Parameters for Store {
     fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic> {
+        if let (Some(position), POSITION..=5422) = (&self.position, number) {
+            return Ok(position()[(number - POSITION) as usize]);
+        }
         system_parameter(number, at)?;
         if number as usize <= LOCALS {
             return Ok(self.levels.last().map_or(0.0, |level| level.numbered[number as usize - 1]));
@@ -95,6 +110,9 @@ impl Parameters for Store {
     }
 
     fn named(&self, name: &str) -> Option<f64> {
+        if let (Some(position), Some(axis)) = (&self.position, POSITION_NAMES.iter().position(|known| *known == name)) {
+            return Some(position()[axis]);
+        }
         if name.starts_with('_') {
             self.named.get(name).copied()
         } else {
@@ -336,6 +354,15 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         self
     }
 
+    /// `position` tells where the tool is now (in program coordinates and
+    /// units): #5420-#5422 and #<_x> #<_y> #<_z> read it. The passes that
+    /// keep it have seen every statement before the line that reads it,
+    /// since the pipeline pulls a statement at a time.
+    pub fn reading_position(mut self, position: Option<Position>) -> Interpreter<'a, L> {
+        self.store.position = position;
+        self
+    }
+
     /// `files` finds a program the program itself does not define, in a
     /// file of its own, as pass 00 finds M98's.
     pub fn finding_programs(mut self, files: Option<FindProgram<'a>>) -> Interpreter<'a, L> {
@@ -483,6 +510,10 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 let number = expr::number(index, &self.store, span)?;
                 system_parameter(number, span)?;
                 Target::Numbered(number)
+            }
+            Param::Named(name) if self.store.position.is_some() && POSITION_NAMES.contains(&name.as_str()) => {
+                let message = format!("#<{name}> is the tool's position: it is read, not set");
+                return Err(Diagnostic::error(span, message));
             }
             Param::Named(name) => Target::Named(name.clone()),
         };
@@ -1837,5 +1868,21 @@ mod tests {
     #[test]
     fn fanuc_pause_is_a_stop_with_its_message() {
         same_as_twin("G21 G90\n#3006 = 1 (TURN THE PART)\nG01 X1 F10\nM30", "G21 G90\nM00 (TURN THE PART)\nG01 X1 F10\nM30");
+    }
+
+    #[test]
+    fn the_current_position_is_read_from_the_passes() {
+        // By hand: after the rapid the tool is at (5, 7, 2) in G54 (zero here); after G92 X0 Y0 at (6, 14)
+        // it reads (0, 0); in G20 the 8 mm of X read 0.315 in, twice that is 16 mm (the output is in mm).
+        assert_eq!(
+            flat("G90 G00 X5 Y7 Z2\nG01 X[#5420 + 1] Y[#<_y> * 2] Z[#5422 - 3] F100\nG92 X0 Y0\nG01 X[#<_x> + 2] Y#5421\nG92.1\nG20\nG01 X[#5420 * 2]"),
+            [
+                "G00 X5.000 Y7.000 Z2.000",
+                "G01 X6.000 Y14.000 Z-1.000 F100.000",
+                "G01 X8.000 Y14.000",
+                "G01 X16.000",
+            ]
+        );
+        assert_eq!(flat("#<_x> = 1"), ["2:1: error: #<_x> is the tool's position: it is read, not set"]);
     }
 }

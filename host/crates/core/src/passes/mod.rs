@@ -123,7 +123,7 @@ pub struct Options<'a> {
 /// before any pass. The lenient dialect's parameters and expressions are
 /// worked out between the two, by the interpreter stage.
 pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
-    parse_finding(program, dialect, None)
+    parse_finding(program, dialect, None, None)
 }
 
 /// As [`parse`], with `files` finding the programs G65 and M98 call that
@@ -132,6 +132,7 @@ fn parse_finding<'a, R: BufRead + 'a>(
     program: R,
     dialect: &DialectConfig,
     files: Option<crate::macros::FindProgram<'a>>,
+    position: Option<crate::macros::Position>,
 ) -> impl Iterator<Item = Event> + 'a {
     let lexer = Lexer::in_dialect(program, dialect.name);
     let tokens = if dialect.name == Dialect::Lenient {
@@ -141,6 +142,7 @@ fn parse_finding<'a, R: BufRead + 'a>(
             .with_history(history)
             .running_fanuc_programs()
             .finding_programs(files)
+            .reading_position(position)
     } else {
         Interpreter::new(lexer.pieces(), dialect.limits)
     };
@@ -170,7 +172,11 @@ pub fn translate<'a, R: BufRead + 'a>(
     };
     let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
     let mut library = library;
-    let parsed = parse_finding(program, &config.dialect, library.take_program_texts());
+    let position: crate::macros::Position = {
+        let (probe, units) = (probe.clone(), config.units);
+        Box::new(move || probe.borrow().program_position(units))
+    };
+    let parsed = parse_finding(program, &config.dialect, library.take_program_texts(), Some(position));
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
     let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
     let stream = tapped(
