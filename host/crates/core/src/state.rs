@@ -37,6 +37,9 @@ pub struct Snapshot {
     pub spindle: Spindle,
     /// The tool M06 last loaded (tool 1 until then).
     pub tool: u32,
+    /// The work offset last selected: 1 for G54 to 9 for G59.3 (and on for
+    /// the extended ones); written by pass 02.
+    pub system: u8,
 }
 
 pub type Probe = Rc<RefCell<Snapshot>>;
@@ -52,6 +55,7 @@ pub fn probe(machine_units: Units) -> Probe {
         feed: None,
         spindle: Spindle::Off,
         tool: 1,
+        system: 1,
     }))
 }
 

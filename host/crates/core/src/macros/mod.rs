@@ -58,8 +58,12 @@ pub struct Store {
     position: Option<Position>,
 }
 
-/// The tool's position where the program has got to.
-pub type Position = Box<dyn Fn() -> [f64; 3]>;
+/// Where the program has got to, as the passes have it: the tool's
+/// position in program coordinates and units, and the work offset in force.
+pub type Position = Box<dyn Fn() -> ([f64; 3], u8)>;
+
+/// LinuxCNC's coordinate system in force: 1 for G54 to 9 for G59.3.
+const COORDINATE_SYSTEM: u32 = 5220;
 
 /// LinuxCNC's current position, X, Y and Z: #5420 to #5422.
 const POSITION: u32 = 5420;
@@ -98,8 +102,10 @@ impl Store {
 
 impl Parameters for Store {
     fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic> {
-        if let (Some(position), POSITION..=5422) = (&self.position, number) {
-            return Ok(position()[(number - POSITION) as usize]);
+        match (&self.position, number) {
+            (Some(position), POSITION..=5422) => return Ok(position().0[(number - POSITION) as usize]),
+            (Some(position), COORDINATE_SYSTEM) => return Ok(f64::from(position().1)),
+            _ => {}
         }
         system_parameter(number, at)?;
         if number as usize <= LOCALS {
@@ -111,7 +117,7 @@ impl Parameters for Store {
 
     fn named(&self, name: &str) -> Option<f64> {
         if let (Some(position), Some(axis)) = (&self.position, POSITION_NAMES.iter().position(|known| *known == name)) {
-            return Some(position()[axis]);
+            return Some(position().0[axis]);
         }
         if name.starts_with('_') {
             self.named.get(name).copied()
@@ -1884,5 +1890,7 @@ mod tests {
             ]
         );
         assert_eq!(flat("#<_x> = 1"), ["2:1: error: #<_x> is the tool's position: it is read, not set"]);
+        // #5220: the coordinate system in force, G54 being 1 and G59.3 9.
+        assert_eq!(flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"), ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]);
     }
 }
