@@ -1061,7 +1061,10 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// A line read for the first time: where its label is, and the blocks
     /// it opens or closes.
     fn note(&mut self, line: &Line) {
-        if self.first_code_line.is_none() && line.is_code() {
+        // As pass 00 reads it: the first statement the parser gets, so not
+        // an O-word line nor a line of a block (LinuxCNC's `O1` title may
+        // follow its subroutines).
+        if self.first_code_line.is_none() && line.is_code() && line.control().is_none() && self.structure.is_empty() {
             self.first_code_line = Some(line.number());
         }
         if let Some(number) = line.label() {
@@ -1892,5 +1895,14 @@ mod tests {
         assert_eq!(flat("#<_x> = 1"), ["2:1: error: #<_x> is the tool's position: it is read, not set"]);
         // #5220: the coordinate system in force, G54 being 1 and G59.3 9.
         assert_eq!(flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"), ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]);
+    }
+
+    #[test]
+    fn an_o_number_after_o_word_subroutines_is_the_programs_title() {
+        // LinuxCNC's m98m99/11-main-program-oword: `O1` after an O-word subroutine names the main program.
+        same_as_twin(
+            "o2 sub\nG00 Z3\no2 endsub\nO1 (MAIN)\nG21 G00 X1 Y2\no2 call\nM30",
+            "G21 G00 X1 Y2\nG00 Z3\nM30",
+        );
     }
 }
