@@ -44,6 +44,8 @@ const MAX_CALL_DEPTH: usize = 100;
 #[derive(Clone, Default)]
 struct Locals {
     numbered: [f64; LOCALS],
+    /// Which of them hold a value (Fanuc: the others are vacant).
+    given: [bool; LOCALS],
     named: HashMap<String, f64>,
 }
 
@@ -86,7 +88,12 @@ impl Store {
 
     fn set(&mut self, target: Target, value: f64) {
         match target {
-            Target::Numbered(number) if number as usize <= LOCALS => self.level().numbered[number as usize - 1] = value,
+            Target::Vacate(target) => self.vacate(*target),
+            Target::Numbered(number) if number as usize <= LOCALS => {
+                let level = self.level();
+                level.numbered[number as usize - 1] = value;
+                level.given[number as usize - 1] = true;
+            }
             Target::Numbered(number) => {
                 self.numbered.insert(number, value);
             }
@@ -100,8 +107,44 @@ impl Store {
     }
 }
 
+impl Store {
+    /// Fanuc's `#n = #0`: the parameter holds no value again (it reads 0).
+    fn vacate(&mut self, target: Target) {
+        match target {
+            Target::Numbered(number) if number as usize <= LOCALS => {
+                let level = self.level();
+                level.numbered[number as usize - 1] = 0.0;
+                level.given[number as usize - 1] = false;
+            }
+            Target::Numbered(number) => {
+                self.numbered.remove(&number);
+            }
+            Target::Named(name) if name.starts_with('_') => {
+                self.named.remove(&name);
+            }
+            Target::Named(name) => {
+                self.level().named.remove(&name);
+            }
+            Target::Vacate(target) => self.vacate(*target),
+        }
+    }
+}
+
 impl Parameters for Store {
+    fn is_set(&self, number: u32) -> bool {
+        match number {
+            expr::VACANT => false,
+            _ if number as usize <= LOCALS => self.levels.last().is_some_and(|level| level.given[number as usize - 1]),
+            _ if number >= FIRST_SYSTEM_PARAMETER => true,
+            _ => self.numbered.contains_key(&number),
+        }
+    }
+
     fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic> {
+        // Fanuc's #0, always vacant, reads 0 in arithmetic.
+        if number == expr::VACANT {
+            return Ok(0.0);
+        }
         match (&self.position, number) {
             (Some(position), POSITION..=5422) => return Ok(position().0[(number - POSITION) as usize]),
             (Some(position), COORDINATE_SYSTEM) => return Ok(f64::from(position().1)),
@@ -139,6 +182,8 @@ fn system_parameter(number: u32, at: Span) -> Result<(), Diagnostic> {
 enum Target {
     Numbered(u32),
     Named(String),
+    /// Fanuc's `#1 = #0`: the parameter is made vacant.
+    Vacate(Box<Target>),
 }
 
 /// A line as the lexer gave it, kept to be run again when it is in a loop
@@ -514,6 +559,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let target = match target {
             Param::Numbered(index) => {
                 let number = expr::number(index, &self.store, span)?;
+                if number == expr::VACANT {
+                    return Err(Diagnostic::error(span, "#0 is Fanuc's vacant value: it is read, not set"));
+                }
                 system_parameter(number, span)?;
                 Target::Numbered(number)
             }
@@ -523,6 +571,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             }
             Param::Named(name) => Target::Named(name.clone()),
         };
+        if value.is_vacant() {
+            return Ok((Target::Vacate(Box::new(target)), 0.0));
+        }
         Ok((target, self.evaluate(value, span)?))
     }
 
@@ -542,6 +593,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 Piece::Lexed(Lexed::Diagnostic(diagnostic)) => self.diagnostic(diagnostic.clone()),
                 _ if failed.is_some() || skipped => {}
                 Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
+                // Fanuc: a word whose value is vacant is not there.
+                Piece::Macro(Macro::Expression { value, .. }, _) if value.is_vacant() => {}
                 Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
                     Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span: *span }),
                     Err(diagnostic) => failed = Some(diagnostic),
@@ -656,6 +709,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                     return Err(Diagnostic::error(span, message).with_help(help));
                 }
                 locals.numbered[number - 1] = value;
+                locals.given[number - 1] = true;
             }
             Some(locals)
         } else {
@@ -1027,9 +1081,12 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             return self.error(Diagnostic::error(control.span, message));
         }
         let mut locals = Locals::default();
-        for (slot, arg) in locals.numbered.iter_mut().zip(&control.args) {
+        for (index, arg) in control.args.iter().enumerate().take(LOCALS) {
             match self.evaluate(arg, control.span) {
-                Ok(value) => *slot = value,
+                Ok(value) => {
+                    locals.numbered[index] = value;
+                    locals.given[index] = true;
+                }
                 Err(diagnostic) => return self.error(diagnostic),
             }
         }
@@ -1535,7 +1592,7 @@ mod tests {
                 "2:5: error: this works out to 100000000000000000000: ger reads numbers up to 10^12",
             ),
             ("#5221 = 1", "2:1: error: #5221 is one of LinuxCNC's system parameters, which ger does not compute"),
-            ("G01 X#0", "2:6: error: there is no parameter #0: they are #1 to #5602"),
+            ("G01 X#-1", "2:6: error: there is no parameter #-1: they are #1 to #5602"),
             ("G01 X#1.5", "2:6: error: a parameter's number must be whole, not 1.5"),
             ("G01 X[1 + ] F10", "2:11: error: expected a value: a number, a parameter, `[expression]` or a function"),
             ("G01 X[1 + 2 F10", "2:13: error: expected `]` to close the `[`"),
@@ -1904,5 +1961,17 @@ mod tests {
             "o2 sub\nG00 Z3\no2 endsub\nO1 (MAIN)\nG21 G00 X1 Y2\no2 call\nM30",
             "G21 G00 X1 Y2\nG00 Z3\nM30",
         );
+    }
+
+    #[test]
+    fn fanuc_vacant_is_told_from_zero() {
+        // Fanuc's #0: a G65 argument not given is vacant, one given as 0 is not; vacant reads 0
+        // in arithmetic, `#1 = #0` empties #1, and a word whose value is #0 is not there.
+        same_as_twin(
+            "G21 G90 F100\nG65 P7 X0\nG65 P7 X5 Y1\nM30\nO7\nIF [#25 EQ #0] GOTO 1\nG01 Y#25\nN1 IF [#24 NE #0] GOTO 2\nG01 Z9\nN2 G01 X[#24 + #0] Z#0\n\
+             #24 = #0\nIF [#24 EQ #0] THEN #100 = 3\nG01 Z#100\nM99",
+            "G21 G90 F100\nG01 X0\nG01 Z3\nG01 Y1\nG01 X5\nG01 Z3\nM30",
+        );
+        assert_eq!(flat("#0 = 1"), ["2:1: error: #0 is Fanuc's vacant value: it is read, not set"]);
     }
 }
