@@ -223,6 +223,15 @@ impl Line {
         })
     }
 
+    /// Whether the line has words for the parser (not only parameters set).
+    fn has_words(&self) -> bool {
+        self.items.iter().any(|item| match item {
+            Piece::Lexed(Lexed::Token(token)) => !matches!(token.kind, TokenKind::Comment(_) | TokenKind::End),
+            Piece::Macro(Macro::Expression { .. }, _) => true,
+            _ => false,
+        })
+    }
+
     /// Whether the line has code: anything but comments and diagnostics.
     fn is_code(&self) -> bool {
         self.items.iter().any(|item| match item {
@@ -1119,9 +1128,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// it opens or closes.
     fn note(&mut self, line: &Line) {
         // As pass 00 reads it: the first statement the parser gets, so not
-        // an O-word line nor a line of a block (LinuxCNC's `O1` title may
-        // follow its subroutines).
-        if self.first_code_line.is_none() && line.is_code() && line.control().is_none() && self.structure.is_empty() {
+        // an O-word line, a line of a block, nor one that only sets
+        // parameters (LinuxCNC's `O1` title may follow its subroutines).
+        if self.first_code_line.is_none() && line.has_words() && line.control().is_none() && self.structure.is_empty() {
             self.first_code_line = Some(line.number());
         }
         if let Some(number) = line.label() {
@@ -1956,9 +1965,10 @@ mod tests {
 
     #[test]
     fn an_o_number_after_o_word_subroutines_is_the_programs_title() {
-        // LinuxCNC's m98m99/11-main-program-oword: `O1` after an O-word subroutine names the main program.
+        // LinuxCNC's m98m99/11 and 12: `O1` after an O-word subroutine and a line setting a parameter
+        // names the main program.
         same_as_twin(
-            "o2 sub\nG00 Z3\no2 endsub\nO1 (MAIN)\nG21 G00 X1 Y2\no2 call\nM30",
+            "o2 sub\nG00 Z3\no2 endsub\n#1 = 2\nO1 (MAIN)\nG21 G00 X1 Y#1\no2 call\nM30",
             "G21 G00 X1 Y2\nG00 Z3\nM30",
         );
     }
