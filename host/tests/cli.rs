@@ -338,3 +338,21 @@ fn a_program_kept_in_a_file_of_its_own_is_called_by_its_number() {
     let output = ger(dir.path(), &["run", "main.nc", "--units", "mm"], "");
     assert!(text(&output.stderr).contains("error: M98 calls O1002, which is not in the program"));
 }
+
+#[test]
+fn g65_and_m98_run_a_program_in_a_file_of_its_own_with_the_parameters_of_the_call() {
+    // A Fanuc macro kept by number: G65's X, Y, Z arrive in #24, #25, #26; M98 sees #100 as set before it.
+    let dir = tempfile::tempdir().unwrap();
+    let main = "O1\nG21 G90 F100\nG65 P9001 X10 Y20 Z-1\n#100 = 3\nM98 P9002\n#100 = 4\nM98 P9002\nM30\n";
+    std::fs::write(dir.path().join("main.nc"), main).unwrap();
+    std::fs::write(dir.path().join("O9001.nc"), "O9001 (HOLE)\nG00 X#24 Y#25\nG01 Z#26\nG00 Z1\nM99\n").unwrap();
+    std::fs::write(dir.path().join("O9002.nc"), "%\nO9002\nG01 X#100\nM99\n%\n").unwrap();
+    let output = ger(dir.path(), &["run", "main.nc", "--lenient", "--units", "mm"], "");
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let moves: Vec<String> = text(&output.stdout).lines().filter(|l| l.contains(" G0")).map(String::from).collect();
+    // Its lines carry the call's line, as M98's from files do.
+    assert_eq!(
+        moves,
+        ["N3 G00 X10.000 Y20.000", "N3 G01 Z-1.000 F100.000", "N3 G00 Z1.000", "N5 G01 X3.000", "N7 G01 X4.000"]
+    );
+}

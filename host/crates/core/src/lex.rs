@@ -65,7 +65,42 @@ pub enum Macro {
     Control(Control),
     /// Fanuc's `IF [c] THEN`: the rest of the line runs only if c holds.
     Guard(Expr),
+    /// Fanuc's `GOTO n`: the program goes on at the line labelled `Nn`.
+    Goto(Expr),
+    /// The `N` number that starts a line: where a `GOTO` may jump to.
+    Label(f64),
 }
+
+/// The text of every line a lexer has read, kept (lenient dialect) so that
+/// a backward `GOTO` can read lines again: as much memory as the program's
+/// text, never more.
+#[derive(Default)]
+pub struct History {
+    text: Vec<u8>,
+    /// Where each line starts in `text`: line n at `starts[n - 1]`.
+    starts: Vec<usize>,
+}
+
+impl History {
+    fn push(&mut self, line: &[u8]) {
+        self.starts.push(self.text.len());
+        self.text.extend_from_slice(line);
+        self.text.push(b'\n');
+    }
+
+    /// How many lines have been read.
+    pub fn lines(&self) -> u32 {
+        self.starts.len() as u32
+    }
+
+    /// The lines read from line `from` on, to be lexed again.
+    pub fn from_line(&self, from: u32) -> Vec<u8> {
+        let start = self.starts.get(from.saturating_sub(1) as usize).copied().unwrap_or(self.text.len());
+        self.text[start..].to_vec()
+    }
+}
+
+pub type SharedHistory = std::rc::Rc<std::cell::RefCell<History>>;
 
 /// Lexes a whole program held in memory; handy for tests and small inputs.
 pub fn lex_str(text: &str) -> Lexer<&[u8]> {
@@ -94,6 +129,8 @@ pub struct Lexer<R> {
     /// Whether a token other than a comment has been read: until then an
     /// `O<name>` line names the program (lenient dialect).
     read_code: bool,
+    /// Where the lines read are kept, if they are.
+    history: Option<SharedHistory>,
 }
 
 /// The longest line read: 1 MiB, far beyond any real program's.
@@ -178,7 +215,22 @@ impl<R: BufRead> Lexer<R> {
             done: false,
             lenient: dialect == Dialect::Lenient,
             read_code: false,
+            history: None,
         }
+    }
+
+    /// Keeps the text of every line read in `history`.
+    pub fn recording(mut self, history: SharedHistory) -> Lexer<R> {
+        self.history = Some(history);
+        self
+    }
+
+    /// Numbers the lines read from `first` on: `reader` holds a program's
+    /// lines from there, read again (a backward `GOTO`).
+    pub fn starting_at(mut self, first: u32) -> Lexer<R> {
+        self.line_no = first.saturating_sub(1);
+        self.read_code = first > 1;
+        self
     }
 
     fn read_line(&mut self) -> bool {
@@ -186,6 +238,9 @@ impl<R: BufRead> Lexer<R> {
             Ok(None) => false,
             Ok(Some(complete)) => {
                 self.line_no += 1;
+                if let Some(history) = &self.history {
+                    history.borrow_mut().push(if complete { &self.raw } else { &[] });
+                }
                 if !complete {
                     let message = format!("this line is longer than {} MiB: it is not read", MAX_LINE >> 20);
                     self.push_diag(Diagnostic::error(Span::new(self.line_no, 1, 0), message));
@@ -311,13 +366,15 @@ impl<R: BufRead> Lexer<R> {
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
+                    let macro_b = letters >= 2 && self.lenient && !is_function_value(&text[pos + 1..]);
                     if let Some(end) = self.program_name(text, pos) {
                         pos = end;
                     } else if letters >= 2 && self.lenient && is_function_value(&text[pos + 1..]) {
                         let letter = bytes[pos].to_ascii_uppercase() as char;
                         pos = self.expression_word(text, pos, letter);
-                    } else if letters >= 2 && self.lenient && self.macro_b(text, pos, name_len).is_some() {
-                        pos = self.macro_b(text, pos, name_len).unwrap_or(pos + name_len);
+                    } else if let Some(end) = macro_b.then(|| self.macro_b(text, pos, name_len)).flatten() {
+                        // Read once: it hands its pieces out as it reads them.
+                        pos = end;
                     } else if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
                     } else if letters >= 2 {
@@ -440,6 +497,9 @@ impl<R: BufRead> Lexer<R> {
             self.push_diag(Diagnostic::error(self.span(start, end + junk - start), message));
         } else if letter != 'N' {
             self.push_word(letter, value, start, end - start);
+        } else if first_on_line && self.lenient && value >= 0.0 {
+            let span = self.span(start, end - start);
+            self.pending.push_back(Piece::Macro(Macro::Label(value), span));
         } else if !first_on_line {
             let message = "an N line number may only start a line";
             let diagnostic = Diagnostic::error(self.span(start, end - start), message)
@@ -578,6 +638,9 @@ impl<R: BufRead> Lexer<R> {
             self.pending.push_back(Piece::Macro(Macro::Control(control), span));
             return Some(start + len);
         }
+        if word.starts_with("GOTO") && (word.len() == 4 || word[4..].bytes().all(|b| b.is_ascii_digit())) {
+            return Some(self.goto(text, start, start + 4));
+        }
         if word != "WHILE" && word != "IF" {
             return None;
         }
@@ -601,7 +664,11 @@ impl<R: BufRead> Lexer<R> {
                 }
                 ("WHILE", None) => Err(Diagnostic::error(span, "WHILE [condition] is followed by DO1, DO2 or DO3")),
                 _ if next == "THEN" => Ok(Some((Macro::Guard(condition), span, after + letters))),
-                // IF ... GOTO is refused with the rest of the control flow.
+                // IF [c] GOTO n: a jump guarded as THEN guards the rest of a line.
+                _ if next.starts_with("GOTO") && next[4..].bytes().all(|b| b.is_ascii_digit()) => {
+                    let span = self.span(start, after - start);
+                    Ok(Some((Macro::Guard(condition), span, after)))
+                }
                 _ => Ok(None),
             }
         });
@@ -612,6 +679,20 @@ impl<R: BufRead> Lexer<R> {
             }
             Ok(None) => None,
             Err(diagnostic) => Some(self.refuse_expression(text, start, diagnostic)),
+        }
+    }
+
+    /// `GOTO n`, from `start`; the target `n` (a number or any value, as
+    /// Fanuc allows: `GOTO#10`, `GOTO[#1+10]`) starts at `at`.
+    fn goto(&mut self, text: &str, start: usize, at: usize) -> usize {
+        let mut reader = Reader::new(text, at, self.line_no);
+        match reader.value() {
+            Ok(target) => {
+                let span = self.span(start, reader.pos - start);
+                self.pending.push_back(Piece::Macro(Macro::Goto(target), span));
+                reader.pos
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
         }
     }
 

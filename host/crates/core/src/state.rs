@@ -37,6 +37,9 @@ pub struct Snapshot {
     pub spindle: Spindle,
     /// The tool M06 last loaded (tool 1 until then).
     pub tool: u32,
+    /// The work offset last selected: 1 for G54 to 9 for G59.3 (and on for
+    /// the extended ones); written by pass 02.
+    pub system: u8,
 }
 
 pub type Probe = Rc<RefCell<Snapshot>>;
@@ -52,6 +55,7 @@ pub fn probe(machine_units: Units) -> Probe {
         feed: None,
         spindle: Spindle::Off,
         tool: 1,
+        system: 1,
     }))
 }
 
@@ -82,6 +86,17 @@ pub struct CallState {
 }
 
 impl Snapshot {
+    /// The tool's position in program coordinates (after G52/G54..G59/G92)
+    /// and units: what LinuxCNC's #5420-#5422 read.
+    pub fn program_position(&self, machine_units: Units) -> [f64; 3] {
+        let to_program = machine_units.factor_to(self.program_units);
+        let from_zero: [f64; 3] = std::array::from_fn(|axis| self.position[axis] - self.prz[axis]);
+        // Along the coordinate system's own axes, turned back by its rotation.
+        let (sin, cos) = self.rotation.to_radians().sin_cos();
+        let program = [from_zero[0] * cos + from_zero[1] * sin, from_zero[1] * cos - from_zero[0] * sin, from_zero[2]];
+        program.map(|v| v * to_program)
+    }
+
     pub fn call_state(&self, config: &Config, line: u32) -> CallState {
         let to_program = config.units.factor_to(self.program_units);
         let tool = config.tool(self.tool).map(|t| ToolInfo {
@@ -89,13 +104,9 @@ impl Snapshot {
             kind: t.kind,
             diameter: t.diameter * to_program,
         });
-        let from_zero: [f64; 3] = std::array::from_fn(|axis| self.position[axis] - self.prz[axis]);
-        // Along the coordinate system's own axes, turned back by its rotation.
-        let (sin, cos) = self.rotation.to_radians().sin_cos();
-        let program = [from_zero[0] * cos + from_zero[1] * sin, from_zero[1] * cos - from_zero[0] * sin, from_zero[2]];
         CallState {
             units: self.program_units,
-            position: program.map(|v| v * to_program),
+            position: self.program_position(config.units),
             distance: self.distance,
             plane: self.plane,
             feed: self.feed.map(|f| f * to_program),

@@ -16,7 +16,9 @@ pub(crate) fn library<'a>(source: &'a Source, dialect: &'a DialectConfig) -> Lib
     let library = Library::scanning(move || Library::scan(source.open(), dialect))
         .with_restart(move || Box::new(passes::parse(source.open(), dialect)));
     match dialect.name {
-        Dialect::Lenient => library.with_files(move |number| program_file(&source.dir(), number, dialect)),
+        Dialect::Lenient => library
+            .with_files(move |number| program_file(&source.dir(), number, dialect))
+            .with_program_texts(move |number| program_text(&source.dir(), number)),
         Dialect::Strict => library,
     }
 }
@@ -25,9 +27,27 @@ pub(crate) fn library<'a>(source: &'a Source, dialect: &'a DialectConfig) -> Lib
 /// Haas keeps programs by number: a G-code file whose name holds the number
 /// (`O1002.nc`, `o01002.tap`, `bracket_o1002.cnc`) and whose first O word is it.
 fn program_file(dir: &Path, number: u32, dialect: &DialectConfig) -> Option<(String, passes::Body)> {
+    candidates(dir, number).into_iter().find_map(|path| {
+        let file = File::open(&path).ok()?;
+        let body = Library::scan_file(BufReader::new(file), number, dialect)?;
+        Some((path.file_name()?.to_string_lossy().into_owned(), body))
+    })
+}
+
+/// The text of the first file [`program_file`] would take, for the
+/// interpreter stage (which checks its first O word itself).
+fn program_text(dir: &Path, number: u32) -> Option<(String, Vec<u8>)> {
+    candidates(dir, number).into_iter().find_map(|path| {
+        let text = std::fs::read(&path).ok()?;
+        Some((path.file_name()?.to_string_lossy().into_owned(), text))
+    })
+}
+
+/// The files whose names say they hold program `number`, in order.
+fn candidates(dir: &Path, number: u32) -> Vec<PathBuf> {
     const EXTENSIONS: [&str; 7] = ["nc", "ngc", "tap", "cnc", "gcode", "txt", ""];
-    let mut candidates: Vec<PathBuf> = std::fs::read_dir(dir)
-        .ok()?
+    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    let mut candidates: Vec<PathBuf> = entries
         .filter_map(|entry| entry.ok().map(|e| e.path()))
         .filter(|path| {
             let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
@@ -36,11 +56,7 @@ fn program_file(dir: &Path, number: u32, dialect: &DialectConfig) -> Option<(Str
         })
         .collect();
     candidates.sort();
-    candidates.into_iter().find_map(|path| {
-        let file = File::open(&path).ok()?;
-        let body = Library::scan_file(BufReader::new(file), number, dialect)?;
-        Some((path.file_name()?.to_string_lossy().into_owned(), body))
-    })
+    candidates
 }
 
 /// Whether a file's name ends with program `number`: `O1002`, `1002`,

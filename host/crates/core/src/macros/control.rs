@@ -22,6 +22,11 @@ pub enum Keyword {
     EndRepeat,
     Break,
     Continue,
+    /// Fanuc's `O1000` starting a program after the main one (a subprogram
+    /// or macro, called by M98 or G65), and the `M99` that ends it: not
+    /// O-words, but read into a block as `sub` is.
+    Program,
+    EndProgram,
 }
 
 const KEYWORDS: [(&str, Keyword); 15] = [
@@ -63,7 +68,9 @@ pub struct Control {
 impl Control {
     /// `o100`, as the program names it (`DO1` for Fanuc's loops).
     pub fn name(&self) -> String {
-        if self.fanuc {
+        if matches!(self.keyword, Keyword::Program | Keyword::EndProgram) {
+            self.label.clone()
+        } else if self.fanuc {
             format!("DO{}", self.label)
         } else if self.label.chars().all(|c| c.is_ascii_digit()) {
             format!("o{}", self.label)
@@ -77,6 +84,8 @@ impl Control {
     /// The line as a message quotes it: `o100 while`, `WHILE ... DO1`, `END1`.
     pub fn describe(&self) -> String {
         match (self.fanuc, self.keyword) {
+            (_, Keyword::Program) => self.label.clone(),
+            (_, Keyword::EndProgram) => "M99".to_string(),
             (true, Keyword::While) => format!("WHILE ... DO{}", self.label),
             (true, _) => format!("END{}", self.label),
             (false, keyword) => format!("{} {}", self.name(), keyword.name()),

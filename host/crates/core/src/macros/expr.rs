@@ -297,6 +297,36 @@ impl<'a> Reader<'a> {
 pub trait Parameters {
     fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic>;
     fn named(&self, name: &str) -> Option<f64>;
+    /// Whether numbered parameter `number` holds a value, Fanuc's "not
+    /// vacant": an unset one reads 0, but `#n EQ #0` tells them apart.
+    fn is_set(&self, _number: u32) -> bool {
+        true
+    }
+}
+
+/// Fanuc's `#0`: always vacant, read as 0 in arithmetic.
+pub const VACANT: u32 = 0;
+
+impl Expr {
+    /// Whether this is `#0` as written.
+    pub fn is_vacant(&self) -> bool {
+        matches!(self, Expr::Param(param, _) if matches!(param.as_ref(), Param::Numbered(Expr::Number(n)) if *n == 0.0))
+    }
+
+    /// Fanuc's test of vacancy, `#n EQ #0`: whether a bare parameter read is
+    /// vacant; `None` for any other expression, which is a number.
+    fn vacant(&self, params: &dyn Parameters) -> Result<Option<bool>, Diagnostic> {
+        if self.is_vacant() {
+            return Ok(Some(true));
+        }
+        match self {
+            Expr::Param(param, span) => match param.as_ref() {
+                Param::Numbered(index) => Ok(Some(!params.is_set(number(index, params, *span)?))),
+                Param::Named(_) => Ok(None),
+            },
+            _ => Ok(None),
+        }
+    }
 }
 
 /// LinuxCNC compares for equality within this (its `TOLERANCE_EQUAL`);
@@ -331,6 +361,11 @@ impl Expr {
             }),
             Expr::Call(function, argument, span) => call(*function, argument.eval(params)?, *span)?,
             Expr::Atan(y, x, _) => y.eval(params)?.atan2(x.eval(params)?).to_degrees(),
+            // Fanuc: vacant equals vacant only (not 0), so `#24 EQ #0` asks whether X was given.
+            Expr::Binary(op @ (Op::Eq | Op::Ne), left, right, _) if left.is_vacant() || right.is_vacant() => {
+                let (left, right) = (left.vacant(params)?, right.vacant(params)?);
+                truth((left == right) == (*op == Op::Eq))
+            }
             Expr::Binary(op, left, right, span) => binary(*op, left.eval(params)?, right.eval(params)?, *span)?,
         };
         Ok(value)
@@ -355,13 +390,14 @@ pub fn number(index: &Expr, params: &dyn Parameters, at: Span) -> Result<u32, Di
     whole_number(index.eval(params)?, index.span().unwrap_or(at))
 }
 
-/// `value` as a parameter's number, which must be whole and one of LinuxCNC's.
+/// `value` as a parameter's number, which must be whole and one of LinuxCNC's
+/// (or Fanuc's #0).
 fn whole_number(value: f64, at: Span) -> Result<u32, Diagnostic> {
     let whole = value.round();
     if (value - whole).abs() > EQUAL_WITHIN {
         return Err(Diagnostic::error(at, format!("a parameter's number must be whole, not {value}")));
     }
-    if !(1.0..=f64::from(LAST_PARAMETER)).contains(&whole) {
+    if !(0.0..=f64::from(LAST_PARAMETER)).contains(&whole) {
         return Err(Diagnostic::error(at, format!("there is no parameter #{whole}: they are #1 to #{LAST_PARAMETER}")));
     }
     Ok(whole as u32)

@@ -20,7 +20,8 @@ use std::sync::Arc;
 
 use crate::config::RunLimits;
 use crate::diag::{Diagnostic, Origin, Span};
-use crate::lex::{Lexed, Macro, Piece, Token, TokenKind, MAX_NUMBER};
+use crate::lex::{Lexed, Lexer, Macro, Piece, SharedHistory, Token, TokenKind, MAX_NUMBER};
+use crate::statement::Dialect;
 use control::{Control, Keyword};
 use expr::{Expr, Param, Parameters};
 
@@ -40,9 +41,11 @@ const RETURNED: &str = "_value";
 const MAX_CALL_DEPTH: usize = 100;
 
 /// The parameters of one call level: `#1`-`#30` and the names without `_`.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Locals {
     numbered: [f64; LOCALS],
+    /// Which of them hold a value (Fanuc: the others are vacant).
+    given: [bool; LOCALS],
     named: HashMap<String, f64>,
 }
 
@@ -52,13 +55,29 @@ pub struct Store {
     named: HashMap<String, f64>,
     /// The call levels, the main program's first.
     levels: Vec<Locals>,
+    /// Where the tool is now, in program coordinates, as passes 01-04 have
+    /// it: #5420-#5422 and #<_x> #<_y> #<_z> read it.
+    position: Option<Position>,
 }
+
+/// Where the program has got to, as the passes have it: the tool's
+/// position in program coordinates and units, and the work offset in force.
+pub type Position = Box<dyn Fn() -> ([f64; 3], u8)>;
+
+/// LinuxCNC's coordinate system in force: 1 for G54 to 9 for G59.3.
+const COORDINATE_SYSTEM: u32 = 5220;
+
+/// LinuxCNC's current position, X, Y and Z: #5420 to #5422.
+const POSITION: u32 = 5420;
+
+/// The same, by LinuxCNC's predefined names.
+const POSITION_NAMES: [&str; 3] = ["_x", "_y", "_z"];
 
 impl Default for Store {
     fn default() -> Store {
         // A subroutine's value reads 0 until one returns, as in LinuxCNC.
         let named = HashMap::from([(RETURNED.to_string(), 0.0)]);
-        Store { numbered: HashMap::new(), named, levels: vec![Locals::default()] }
+        Store { numbered: HashMap::new(), named, levels: vec![Locals::default()], position: None }
     }
 }
 
@@ -69,7 +88,12 @@ impl Store {
 
     fn set(&mut self, target: Target, value: f64) {
         match target {
-            Target::Numbered(number) if number as usize <= LOCALS => self.level().numbered[number as usize - 1] = value,
+            Target::Vacate(target) => self.vacate(*target),
+            Target::Numbered(number) if number as usize <= LOCALS => {
+                let level = self.level();
+                level.numbered[number as usize - 1] = value;
+                level.given[number as usize - 1] = true;
+            }
             Target::Numbered(number) => {
                 self.numbered.insert(number, value);
             }
@@ -83,8 +107,49 @@ impl Store {
     }
 }
 
+impl Store {
+    /// Fanuc's `#n = #0`: the parameter holds no value again (it reads 0).
+    fn vacate(&mut self, target: Target) {
+        match target {
+            Target::Numbered(number) if number as usize <= LOCALS => {
+                let level = self.level();
+                level.numbered[number as usize - 1] = 0.0;
+                level.given[number as usize - 1] = false;
+            }
+            Target::Numbered(number) => {
+                self.numbered.remove(&number);
+            }
+            Target::Named(name) if name.starts_with('_') => {
+                self.named.remove(&name);
+            }
+            Target::Named(name) => {
+                self.level().named.remove(&name);
+            }
+            Target::Vacate(target) => self.vacate(*target),
+        }
+    }
+}
+
 impl Parameters for Store {
+    fn is_set(&self, number: u32) -> bool {
+        match number {
+            expr::VACANT => false,
+            _ if number as usize <= LOCALS => self.levels.last().is_some_and(|level| level.given[number as usize - 1]),
+            _ if number >= FIRST_SYSTEM_PARAMETER => true,
+            _ => self.numbered.contains_key(&number),
+        }
+    }
+
     fn numbered(&self, number: u32, at: Span) -> Result<f64, Diagnostic> {
+        // Fanuc's #0, always vacant, reads 0 in arithmetic.
+        if number == expr::VACANT {
+            return Ok(0.0);
+        }
+        match (&self.position, number) {
+            (Some(position), POSITION..=5422) => return Ok(position().0[(number - POSITION) as usize]),
+            (Some(position), COORDINATE_SYSTEM) => return Ok(f64::from(position().1)),
+            _ => {}
+        }
         system_parameter(number, at)?;
         if number as usize <= LOCALS {
             return Ok(self.levels.last().map_or(0.0, |level| level.numbered[number as usize - 1]));
@@ -94,6 +159,9 @@ impl Parameters for Store {
     }
 
     fn named(&self, name: &str) -> Option<f64> {
+        if let (Some(position), Some(axis)) = (&self.position, POSITION_NAMES.iter().position(|known| *known == name)) {
+            return Some(position().0[axis]);
+        }
         if name.starts_with('_') {
             self.named.get(name).copied()
         } else {
@@ -114,6 +182,8 @@ fn system_parameter(number: u32, at: Span) -> Result<(), Diagnostic> {
 enum Target {
     Numbered(u32),
     Named(String),
+    /// Fanuc's `#1 = #0`: the parameter is made vacant.
+    Vacate(Box<Target>),
 }
 
 /// A line as the lexer gave it, kept to be run again when it is in a loop
@@ -125,6 +195,52 @@ struct Line {
 }
 
 impl Line {
+    /// The program line it is.
+    fn number(&self) -> u32 {
+        let span = |item: &Piece| match item {
+            Piece::Lexed(Lexed::Token(token)) => token.span,
+            Piece::Lexed(Lexed::Diagnostic(diagnostic)) => diagnostic.span,
+            Piece::Macro(_, span) => *span,
+        };
+        self.end.as_ref().map(|end| end.span).or_else(|| self.items.first().map(span)).map_or(0, |span| span.line)
+    }
+
+    /// The whole `N` number that starts the line, if it has one: where a GOTO may jump.
+    fn label(&self) -> Option<u64> {
+        self.items.iter().find_map(|item| match item {
+            Piece::Macro(Macro::Label(number), _) if number.fract() == 0.0 => Some(*number as u64),
+            _ => None,
+        })
+    }
+
+    /// The words of the line, after its values are worked out.
+    fn words(&self) -> impl Iterator<Item = (char, f64, Span)> + '_ {
+        self.items.iter().filter_map(|item| match item {
+            Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Word { letter, value }, span })) => {
+                Some((*letter, *value, *span))
+            }
+            _ => None,
+        })
+    }
+
+    /// Whether the line has words for the parser (not only parameters set).
+    fn has_words(&self) -> bool {
+        self.items.iter().any(|item| match item {
+            Piece::Lexed(Lexed::Token(token)) => !matches!(token.kind, TokenKind::Comment(_) | TokenKind::End),
+            Piece::Macro(Macro::Expression { .. }, _) => true,
+            _ => false,
+        })
+    }
+
+    /// Whether the line has code: anything but comments and diagnostics.
+    fn is_code(&self) -> bool {
+        self.items.iter().any(|item| match item {
+            Piece::Lexed(Lexed::Token(token)) => !matches!(token.kind, TokenKind::Comment(_) | TokenKind::End),
+            Piece::Lexed(Lexed::Diagnostic(_)) => false,
+            Piece::Macro(..) => true,
+        })
+    }
+
     /// The line's O-word control, if it is a control line.
     fn control(&self) -> Option<&Control> {
         self.items.iter().find_map(|item| match item {
@@ -177,7 +293,10 @@ struct Frame {
 enum FrameKind {
     Branch,
     Loop { block: Rc<Loop>, iterations: u64, remaining: u64 },
-    Call { origin: Arc<Origin> },
+    /// A call: with locals of its own (O-word `call`, G65: those it starts
+    /// with, again for each repeat) or the caller's (M98); run `remaining` times more.
+    /// A program from a file of its own (`file`) says its lines are the call's.
+    Call { origin: Arc<Origin>, locals: Option<Box<Locals>>, remaining: u64, file: bool },
 }
 
 /// Runs over the lexer's tokens a line at a time: turns expression words
@@ -185,7 +304,7 @@ enum FrameKind {
 /// O-word control lines. A block (`sub`, `if`, a loop) is read whole before
 /// it runs and kept while it does; everything else streams. A line with an
 /// error gives the parser nothing of it but its diagnostics.
-pub struct Interpreter<L> {
+pub struct Interpreter<'a, L> {
     tokens: L,
     store: Store,
     /// The line being read.
@@ -204,10 +323,54 @@ pub struct Interpreter<L> {
     stop_loops: bool,
     out: VecDeque<Lexed>,
     done: bool,
+    /// The text of the lines read, for a backward GOTO to read again.
+    history: Option<SharedHistory>,
+    /// Lines read again after a GOTO, before the program reads on.
+    replay: Option<Box<dyn Iterator<Item = Piece>>>,
+    /// Where each `N` label of the program's lines is: its first line and
+    /// how many blocks are open there (a GOTO may not jump into one).
+    labels: HashMap<u64, Label>,
+    /// Labels met again, on later lines.
+    more_labels: Vec<(u64, Label)>,
+    /// The blocks open at the line the program has read to, for `labels`.
+    structure: Vec<Control>,
+    /// The first GOTO that jumped back: from there every block counts
+    /// against `limits.blocks`, as a loop's do.
+    jumped: Option<Span>,
+    /// The backward GOTOs whose lines are running, with how often each jumped.
+    goto_loops: Vec<GotoLoop>,
+    /// Fanuc's programs after the main one (`O1000` to `M99`) are read as
+    /// blocks, and `M98`/`G65` run them here (lenient dialect).
+    fanuc_programs: bool,
+    /// Finds a program kept in a file of its own: the file's name and text.
+    files: Option<FindProgram<'a>>,
+    /// The programs found in files, and the files' names.
+    from_files: HashMap<String, String>,
+    /// The program's first line of code: an `O` number there is its name.
+    first_code_line: Option<u32>,
+    /// The line and call level of the last error since a GOTO jumped back:
+    /// a GOTO does not jump back over it again.
+    last_error: Option<(u32, usize)>,
 }
 
-impl<L: Iterator<Item = Piece>> Interpreter<L> {
-    pub fn new(tokens: L, limits: RunLimits) -> Interpreter<L> {
+#[derive(Clone, Copy)]
+struct Label {
+    line: u32,
+    open_blocks: u32,
+}
+
+/// A backward GOTO at line `site`, to `target`, with its lines running:
+/// a loop whose iterations are its jumps. It is over once a line outside
+/// them runs (at the same call level).
+struct GotoLoop {
+    site: u32,
+    target: u32,
+    level: usize,
+    jumps: u64,
+}
+
+impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
+    pub fn new(tokens: L, limits: RunLimits) -> Interpreter<'a, L> {
         Interpreter {
             tokens,
             store: Store::default(),
@@ -221,13 +384,132 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             stop_loops: false,
             out: VecDeque::new(),
             done: false,
+            history: None,
+            replay: None,
+            labels: HashMap::new(),
+            more_labels: Vec::new(),
+            structure: Vec::new(),
+            jumped: None,
+            goto_loops: Vec::new(),
+            last_error: None,
+            fanuc_programs: false,
+            files: None,
+            from_files: HashMap::new(),
+            first_code_line: None,
         }
+    }
+
+    /// `history` holds the text of the lines the lexer has read: a backward
+    /// GOTO reads them again. Without it such a jump is an error.
+    pub fn with_history(mut self, history: SharedHistory) -> Interpreter<'a, L> {
+        self.history = Some(history);
+        self
+    }
+
+    /// Reads Fanuc's programs after the main one (`O1000` ... `M99`) and runs
+    /// them at `M98 P1000` and `G65 P1000` (lenient dialect): a program's
+    /// parameters are those of the moment it is called.
+    pub fn running_fanuc_programs(mut self) -> Interpreter<'a, L> {
+        self.fanuc_programs = true;
+        self
+    }
+
+    /// `position` tells where the tool is now (in program coordinates and
+    /// units): #5420-#5422 and #<_x> #<_y> #<_z> read it. The passes that
+    /// keep it have seen every statement before the line that reads it,
+    /// since the pipeline pulls a statement at a time.
+    pub fn reading_position(mut self, position: Option<Position>) -> Interpreter<'a, L> {
+        self.store.position = position;
+        self
+    }
+
+    /// `files` finds a program the program itself does not define, in a
+    /// file of its own, as pass 00 finds M98's.
+    pub fn finding_programs(mut self, files: Option<FindProgram<'a>>) -> Interpreter<'a, L> {
+        self.files = files;
+        self
+    }
+
+    /// Where what a program from another file makes is said to come from:
+    /// the line that called it, as pass 00 says of such a program's lines.
+    fn shown_at(&self) -> Option<Span> {
+        self.frames.iter().find_map(|frame| match &frame.kind {
+            FrameKind::Call { origin, file: true, .. } => Some(origin.call),
+            _ => None,
+        })
+    }
+
+    fn emit(&mut self, mut token: Token) {
+        if let Some(span) = self.shown_at() {
+            token.span = span;
+        }
+        self.out.push_back(Lexed::Token(token));
+    }
+
+    /// A program in a file of its own, to its M99: a block as one after
+    /// M30 is, and the file's name. Its first line of code must be its O number.
+    fn program_from_file(&mut self, number: u64, label: &str) -> Option<(Rc<Sub>, String)> {
+        let (name, text) = (self.files.as_mut()?)(number as u32)?;
+        let mut lines = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).pieces();
+        let mut partial = Line::default();
+        let head = loop {
+            let line = whole_line(&mut lines, &mut partial)?;
+            if !line.is_code() {
+                continue;
+            }
+            let first = line.words().next();
+            match first {
+                Some(('O', value, span)) if value == number as f64 => {
+                    break Control { label: label.to_string(), keyword: Keyword::Program, args: Vec::new(), span, fanuc: true };
+                }
+                _ => return None,
+            }
+        };
+        // Its lines are read into a block of their own, as the program's are.
+        let around = std::mem::take(&mut self.open);
+        self.open.push(Open { head: head.clone(), nodes: Vec::new(), branches: Vec::new() });
+        while let Some(line) = whole_line(&mut lines, &mut partial) {
+            let ends = line.words().any(|(letter, value, _)| letter == 'M' && [99.0, 30.0, 2.0].contains(&value));
+            if ends && self.open.len() == 1 {
+                break;
+            }
+            self.read(line);
+        }
+        let inner = std::mem::replace(&mut self.open, around);
+        let unclosed = inner.iter().skip(1).map(|open| open.head.clone()).collect::<Vec<_>>();
+        for open in unclosed {
+            let message = format!("{} is never closed (in {name})", open.describe());
+            self.error(Diagnostic::error(open.span, message));
+        }
+        let body: Body = inner.into_iter().next()?.nodes.into();
+        Some((Rc::new(Sub { head, body }), name))
+    }
+
+    /// The block a line opens or closes as a Fanuc program: `O1000` (but
+    /// the program's own name, on its first line of code) or `M99`.
+    fn fanuc_block(&self, line: &Line) -> Option<Control> {
+        if !self.fanuc_programs {
+            return None;
+        }
+        let mut words = line.words();
+        let (letter, value, span) = words.next()?;
+        let keyword = match letter {
+            'O' if self.first_code_line != Some(line.number()) && value >= 0.0 && value.fract() == 0.0 => {
+                Keyword::Program
+            }
+            _ if std::iter::once((letter, value, span)).chain(words).any(|(l, v, _)| l == 'M' && v == 99.0) => {
+                Keyword::EndProgram
+            }
+            _ => return None,
+        };
+        let label = if keyword == Keyword::Program { format!("O{}", value as u64) } else { String::new() };
+        Some(Control { label, keyword, args: Vec::new(), span, fanuc: true })
     }
 
     /// The call the running line is in, for its diagnostics.
     fn origin(&self) -> Option<Arc<Origin>> {
         self.frames.iter().rev().find_map(|frame| match &frame.kind {
-            FrameKind::Call { origin } => Some(origin.clone()),
+            FrameKind::Call { origin, .. } => Some(origin.clone()),
             _ => None,
         })
     }
@@ -240,9 +522,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// Every diagnostic of the running program goes out here. An error in a
     /// loop stops it, as LinuxCNC stops the program at its first error: the
     /// same error is not said once an iteration, a million times.
-    fn diagnostic(&mut self, diagnostic: Diagnostic) {
+    fn diagnostic(&mut self, mut diagnostic: Diagnostic) {
+        if let Some(span) = self.shown_at() {
+            diagnostic.span = span;
+        }
         if diagnostic.is_error() && self.frames.iter().any(|frame| matches!(frame.kind, FrameKind::Loop { .. })) {
             self.stop_loops = true;
+        }
+        if diagnostic.is_error() {
+            self.last_error = Some((diagnostic.span.line, self.store.levels.len()));
         }
         self.out.push_back(Lexed::Diagnostic(diagnostic));
     }
@@ -258,7 +546,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         };
         let (head, iteration) = (block.head.clone(), iterations + 1);
         for frame in self.frames.drain(outermost..) {
-            if matches!(frame.kind, FrameKind::Call { .. }) {
+            if matches!(frame.kind, FrameKind::Call { locals: Some(_), .. }) {
                 self.store.levels.pop();
             }
         }
@@ -280,25 +568,42 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         let target = match target {
             Param::Numbered(index) => {
                 let number = expr::number(index, &self.store, span)?;
+                if number == expr::VACANT {
+                    return Err(Diagnostic::error(span, "#0 is Fanuc's vacant value: it is read, not set"));
+                }
                 system_parameter(number, span)?;
                 Target::Numbered(number)
             }
+            Param::Named(name) if self.store.position.is_some() && POSITION_NAMES.contains(&name.as_str()) => {
+                let message = format!("#<{name}> is the tool's position: it is read, not set");
+                return Err(Diagnostic::error(span, message));
+            }
             Param::Named(name) => Target::Named(name.clone()),
         };
+        if value.is_vacant() {
+            return Ok((Target::Vacate(Box::new(target)), 0.0));
+        }
         Ok((target, self.evaluate(value, span)?))
     }
 
     /// Runs a plain line: its words' values, then its assignments.
     fn run_line(&mut self, line: &Line) {
+        if !self.goto_loops.is_empty() {
+            let (number, level) = (line.number(), self.store.levels.len());
+            self.goto_loops.retain(|jump| jump.level != level || (jump.target..=jump.site).contains(&number));
+        }
         let mut tokens = Vec::with_capacity(line.items.len());
         let mut assignments = Vec::new();
         let mut failed = None;
         let mut skipped = false;
+        let mut jump = None;
         for item in &line.items {
             match item {
                 Piece::Lexed(Lexed::Diagnostic(diagnostic)) => self.diagnostic(diagnostic.clone()),
                 _ if failed.is_some() || skipped => {}
                 Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
+                // Fanuc: a word whose value is vacant is not there.
+                Piece::Macro(Macro::Expression { value, .. }, _) if value.is_vacant() => {}
                 Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
                     Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span: *span }),
                     Err(diagnostic) => failed = Some(diagnostic),
@@ -313,23 +618,146 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                     Ok(_) => {}
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
+                Piece::Macro(Macro::Goto(target), span) => match self.evaluate(target, *span).and_then(|n| label(n, *span)) {
+                    Ok(label) => jump = Some((label, *span)),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
                 // A plain line has no control piece: `read` takes those.
-                Piece::Macro(Macro::Control(_), _) => {}
+                Piece::Macro(Macro::Control(_) | Macro::Label(_), _) => {}
             }
         }
         if let (None, Some(span)) = (&failed, alarm(&assignments)) {
             failed = Some(self.alarm(line, &assignments, span));
         }
+        if failed.is_none() && self.in_fanuc_program() {
+            failed = ends_program(&tokens);
+        }
+        let jump = jump.filter(|_| failed.is_none());
+        let mut call = None;
+        if let Some(found) = fanuc_call(&tokens).filter(|_| failed.is_none() && self.fanuc_programs) {
+            match self.prepare_call(found) {
+                Ok(ready) => call = ready,
+                Err(diagnostic) => failed = Some(diagnostic),
+            }
+        }
         match failed {
             Some(diagnostic) => self.error(diagnostic),
             None => {
-                self.out.extend(tokens.into_iter().map(Lexed::Token));
+                // A call's own words go no further: its body runs in their place.
+                let kept = |token: &Token| match (&call, &token.kind) {
+                    (Some(Ready { locals: Some(_), .. }), TokenKind::Word { .. }) => false,
+                    (Some(_), TokenKind::Word { letter, value }) => !matches!((letter, value), ('M', 98.0) | ('P' | 'L', _)),
+                    _ => true,
+                };
+                for token in tokens.into_iter().filter(kept) {
+                    self.emit(token);
+                }
+                if let Some(&(_, _, span)) = assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(PAUSE))) {
+                    // Fanuc's #3006 = n (MESSAGE): a stop with the message, which the line's comment carries.
+                    self.emit(Token { kind: TokenKind::Word { letter: 'M', value: 0.0 }, span });
+                }
                 for (target, value, _) in assignments {
                     self.store.set(target, value);
                 }
             }
         }
-        self.out.extend(line.end.clone().map(Lexed::Token));
+        if let Some(end) = line.end.clone() {
+            self.emit(end);
+        }
+        if let Some((label, span)) = jump {
+            self.goto(label, span);
+        }
+        if let Some(ready) = call {
+            self.push_call(ready);
+        }
+    }
+
+    /// The program a `M98` or `G65` line calls, found (read ahead for if it
+    /// follows), with the locals a G65 gives it. `None` for an M98 whose
+    /// program is not in the file: pass 00 looks for it beside the program.
+    fn prepare_call(&mut self, call: FanucCall) -> Result<Option<Ready>, Diagnostic> {
+        let code = if call.macro_call { "G65" } else { "M98" };
+        let number = call.program.filter(|p| *p >= 0.0 && p.fract() == 0.0);
+        let Some(number) = number else {
+            if !call.macro_call {
+                return Ok(None);
+            }
+            let message = "G65 needs P, the number of the program it calls (a whole number)";
+            return Err(Diagnostic::error(call.at, message).with_help("G65 P1000 A1 B2 calls O1000 with #1 = 1, #2 = 2"));
+        };
+        let label = format!("O{}", number as u64);
+        if !self.subs.contains_key(&label) && !self.look_ahead_for(&label) {
+            if let Some((sub, name)) = self.program_from_file(number as u64, &label) {
+                self.from_files.insert(label.clone(), name);
+                self.subs.insert(label.clone(), sub);
+            }
+        }
+        if !self.subs.contains_key(&label) {
+            if !call.macro_call {
+                return Ok(None);
+            }
+            let message = format!("G65 calls {label}, which is not in the program");
+            return Err(Diagnostic::error(call.at, message).with_help(format!("define it after M30: {label} ... M99")));
+        }
+        if call.repeat < 0.0 || call.repeat.fract() != 0.0 {
+            let message = format!("{code} L{}: the number of times must be whole, 0 or more", call.repeat);
+            return Err(Diagnostic::error(call.at, message));
+        }
+        let locals = if call.macro_call {
+            let mut locals = Locals::default();
+            let mut given = [false; LOCALS];
+            for (letter, value, span) in call.args {
+                let Some(number) = argument(letter) else {
+                    let message = format!("{letter} is not one of G65's arguments");
+                    let help = "G65's arguments are A-F, H-K, M and Q-Z (into #1-#26); P names the program, L repeats it";
+                    return Err(Diagnostic::error(span, message).with_help(help));
+                };
+                if std::mem::replace(&mut given[number - 1], true) {
+                    let message = format!("{letter} is given twice: ger reads Fanuc's first form of arguments only");
+                    let help = "each letter once: A -> #1, B -> #2, C -> #3, I -> #4, ...";
+                    return Err(Diagnostic::error(span, message).with_help(help));
+                }
+                locals.numbered[number - 1] = value;
+                locals.given[number - 1] = true;
+            }
+            Some(locals)
+        } else {
+            None
+        };
+        let sub = self.subs[&label].clone();
+        let file = self.from_files.get(&label);
+        let what = file.map_or(label.clone(), |name| format!("{label} (from {name})"));
+        let origin = Arc::new(Origin { what, call: call.at, parent: self.origin() });
+        Ok(Some(Ready { sub, origin, locals, repeat: call.repeat as u64, file: file.is_some() }))
+    }
+
+    fn push_call(&mut self, ready: Ready) {
+        if ready.repeat == 0 {
+            return;
+        }
+        if self.call_depth() >= MAX_CALL_DEPTH {
+            let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
+            return self.error(Diagnostic::error(ready.origin.call, message));
+        }
+        if let Some(locals) = &ready.locals {
+            self.store.levels.push(locals.clone());
+        }
+        let kind = FrameKind::Call {
+            origin: ready.origin,
+            locals: ready.locals.map(Box::new),
+            remaining: ready.repeat,
+            file: ready.file,
+        };
+        self.frames.push(Frame { body: ready.sub.body.clone(), next: 0, kind });
+    }
+
+    /// Whether the line running is in a program M98 or G65 called.
+    fn in_fanuc_program(&self) -> bool {
+        self.frames.iter().any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with('O')))
+    }
+
+    fn call_depth(&self) -> usize {
+        self.frames.iter().filter(|frame| matches!(frame.kind, FrameKind::Call { .. })).count()
     }
 
     /// Fanuc's `#3000 = n (MESSAGE)`: the program stops with an alarm.
@@ -347,7 +775,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// A line read from the program: run it, or keep it in the block being read.
     fn read(&mut self, line: Line) {
-        let Some(control) = line.control().cloned() else {
+        let program = self.fanuc_block(&line).filter(|control| {
+            control.keyword == Keyword::Program
+                || self.open.last().is_some_and(|open| open.head.keyword == Keyword::Program)
+        });
+        let program = program.map(|control| match self.open.last() {
+            Some(open) if control.keyword == Keyword::EndProgram => Control { label: open.head.label.clone(), ..control },
+            _ => control,
+        });
+        let Some(control) = program.or_else(|| line.control().cloned()) else {
             return self.add(Node::Line(line));
         };
         // The line's diagnostics and end still go out, in their place.
@@ -368,7 +804,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             open.head.label == control.label && keywords.contains(&open.head.keyword)
         };
         match control.keyword {
-            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat => self.open_block(control),
+            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat | Keyword::Program => self.open_block(control),
             Keyword::While if !self.open.last().is_some_and(|open| closes(open, &[Keyword::Do])) => {
                 self.open_block(control)
             }
@@ -386,6 +822,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                     Keyword::EndIf => &[Keyword::If, Keyword::ElseIf, Keyword::Else],
                     Keyword::EndWhile => &[Keyword::While],
                     Keyword::EndRepeat => &[Keyword::Repeat],
+                    Keyword::EndProgram => &[Keyword::Program],
                     _ => &[Keyword::Do],
                 };
                 if !self.open.last().is_some_and(|open| closes(open, wanted)) {
@@ -397,7 +834,7 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
                 }
                 let body: Body = open.nodes.into();
                 let node = match control.keyword {
-                    Keyword::EndSub => Node::Sub(Rc::new(Sub { head: open.head, body })),
+                    Keyword::EndSub | Keyword::EndProgram => Node::Sub(Rc::new(Sub { head: open.head, body })),
                     Keyword::EndIf => {
                         let mut branches = open.branches;
                         branches.push((open.head, body));
@@ -445,6 +882,17 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         }
         match node {
             Node::Line(line) => self.run_line(line),
+            // A Fanuc program's first definition is the one calls run, as in pass 00.
+            Node::Sub(sub) if sub.head.keyword == Keyword::Program => {
+                if self.subs.contains_key(&sub.head.label) {
+                    // LinuxCNC runs the first and reads past the second.
+                    let message = format!("{} is defined again: calls run its first definition", sub.head.label);
+                    let help = "give each subprogram its own number, or remove the one that never runs";
+                    self.diagnostic(Diagnostic::warning(sub.head.span, message).with_help(help));
+                } else {
+                    self.subs.insert(sub.head.label.clone(), sub.clone());
+                }
+            }
             Node::Sub(sub) => {
                 self.subs.insert(sub.head.label.clone(), sub.clone());
             }
@@ -493,7 +941,10 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
 
     /// The innermost body has run to its end.
     fn end_of_body(&mut self) {
-        let looping = matches!(self.frames.last().map(|frame| &frame.kind), Some(FrameKind::Loop { .. }));
+        let looping = matches!(
+            self.frames.last().map(|frame| &frame.kind),
+            Some(FrameKind::Loop { .. } | FrameKind::Call { remaining: 2.., .. })
+        );
         // A loop's end and its test are a block run again, each time.
         if looping && !self.count_block() {
             return;
@@ -502,6 +953,15 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
         match &mut frame.kind {
             FrameKind::Branch => {
                 self.frames.pop();
+            }
+            FrameKind::Call { remaining, locals, .. } if *remaining > 1 => {
+                // M98 P.. L.., G65 P.. L..: the body again, a G65's with its arguments again.
+                *remaining -= 1;
+                frame.next = 0;
+                if let Some(locals) = locals {
+                    let again = (**locals).clone();
+                    *self.store.level() = again;
+                }
             }
             FrameKind::Call { .. } => self.leave_call(),
             FrameKind::Loop { block, iterations, remaining } => {
@@ -545,28 +1005,31 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     fn count_block(&mut self) -> bool {
         let outermost = self.frames.iter().find_map(|frame| match &frame.kind {
             FrameKind::Loop { block, .. } => Some(block.head.span),
-            FrameKind::Call { origin } => Some(origin.call),
+            FrameKind::Call { origin, .. } => Some(origin.call),
             FrameKind::Branch => None,
         });
-        let Some(outermost) = outermost else { return true };
+        let by_jump = outermost.is_none();
+        let Some(outermost) = outermost.or(self.jumped) else { return true };
         self.blocks_run += 1;
         if self.blocks_run <= self.limits.blocks {
             return true;
         }
-        let message =
-            format!("the loops and calls from here ran {} blocks without ending: stopped", self.limits.blocks);
+        let blocks = self.limits.blocks;
+        let message = if by_jump {
+            format!("after this GOTO jumped back, the program ran {blocks} blocks without ending: stopped")
+        } else {
+            format!("the loops and calls from here ran {blocks} blocks without ending: stopped")
+        };
         let help = "raise [machine] max_blocks in ger.toml if the program is meant to run longer";
         self.out.push_back(Lexed::Diagnostic(Diagnostic::error(outermost, message).with_help(help)));
-        self.frames.clear();
-        self.open.clear();
-        self.ahead.clear();
-        self.done = true;
+        self.end_program();
         false
     }
 
     fn leave_call(&mut self) {
-        self.frames.pop();
-        self.store.levels.pop();
+        if let Some(Frame { kind: FrameKind::Call { locals: Some(_), .. }, .. }) = self.frames.pop() {
+            self.store.levels.pop();
+        }
     }
 
     fn simple(&mut self, control: &Control) {
@@ -622,38 +1085,234 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
             return self.error(Diagnostic::error(control.span, message).with_help(help));
         }
         let sub = self.subs[&control.label].clone();
-        if self.store.levels.len() > MAX_CALL_DEPTH {
+        if self.call_depth() >= MAX_CALL_DEPTH {
             let message = format!("calls nest more than {MAX_CALL_DEPTH} deep: a recursion that does not end?");
             return self.error(Diagnostic::error(control.span, message));
         }
         let mut locals = Locals::default();
-        for (slot, arg) in locals.numbered.iter_mut().zip(&control.args) {
+        for (index, arg) in control.args.iter().enumerate().take(LOCALS) {
             match self.evaluate(arg, control.span) {
-                Ok(value) => *slot = value,
+                Ok(value) => {
+                    locals.numbered[index] = value;
+                    locals.given[index] = true;
+                }
                 Err(diagnostic) => return self.error(diagnostic),
             }
         }
         let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
+        let kind = FrameKind::Call { origin, locals: Some(Box::new(locals.clone())), remaining: 1, file: false };
         self.store.levels.push(locals);
-        self.frames.push(Frame { body: sub.body.clone(), next: 0, kind: FrameKind::Call { origin } });
+        self.frames.push(Frame { body: sub.body.clone(), next: 0, kind });
     }
 
-    /// The next line from the lexer, whole; `None` at the program's end.
+    /// The next line, whole: one read again after a GOTO, or the program's
+    /// next; `None` at the program's end.
     fn next_line(&mut self) -> Option<Line> {
-        loop {
-            match self.tokens.next() {
-                Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
-                    let mut line = std::mem::take(&mut self.line);
-                    line.end = Some(token);
-                    return Some(line);
-                }
-                Some(item) => self.line.items.push(item),
-                None => {
-                    let line = std::mem::take(&mut self.line);
-                    return (!line.items.is_empty()).then_some(line);
-                }
+        while let Some(replay) = &mut self.replay {
+            match whole_line(replay, &mut Line::default()) {
+                Some(line) => return Some(line),
+                None => self.replay = None,
             }
         }
+        self.next_line_from_program()
+    }
+
+    /// The program's next line, read for the first time.
+    fn next_line_from_program(&mut self) -> Option<Line> {
+        let line = whole_line(&mut self.tokens, &mut self.line)?;
+        self.note(&line);
+        Some(line)
+    }
+
+    /// A line read for the first time: where its label is, and the blocks
+    /// it opens or closes.
+    fn note(&mut self, line: &Line) {
+        // As pass 00 reads it: the first statement the parser gets, so not
+        // an O-word line, a line of a block, nor one that only sets
+        // parameters (LinuxCNC's `O1` title may follow its subroutines).
+        if self.first_code_line.is_none() && line.has_words() && line.control().is_none() && self.structure.is_empty() {
+            self.first_code_line = Some(line.number());
+        }
+        if let Some(number) = line.label() {
+            let label = Label { line: line.number(), open_blocks: self.structure.len() as u32 };
+            match self.labels.entry(number) {
+                std::collections::hash_map::Entry::Vacant(entry) => {
+                    entry.insert(label);
+                }
+                std::collections::hash_map::Entry::Occupied(_) => self.more_labels.push((number, label)),
+            }
+        }
+        let fanuc = self.fanuc_block(line);
+        let Some(control) = fanuc.as_ref().or(line.control()) else { return };
+        let top = self.structure.last();
+        let closes = |keywords: &[Keyword]| {
+            top.is_some_and(|open| open.label == control.label && keywords.contains(&open.keyword))
+        };
+        let close = match control.keyword {
+            Keyword::Sub | Keyword::If | Keyword::Do | Keyword::Repeat => false,
+            Keyword::While => closes(&[Keyword::Do]),
+            Keyword::EndSub => closes(&[Keyword::Sub]),
+            Keyword::EndIf => closes(&[Keyword::If]),
+            Keyword::EndWhile => closes(&[Keyword::While]),
+            Keyword::EndRepeat => closes(&[Keyword::Repeat]),
+            Keyword::Program => false,
+            Keyword::EndProgram => top.is_some_and(|open| open.keyword == Keyword::Program),
+            _ => return,
+        };
+        if close {
+            self.structure.pop();
+        } else if !matches!(
+            control.keyword,
+            Keyword::EndSub | Keyword::EndIf | Keyword::EndWhile | Keyword::EndRepeat | Keyword::EndProgram
+        ) {
+            self.structure.push(control.clone());
+        }
+    }
+
+    /// `GOTO n`: the program goes on at the line labelled `Nn`. As on a
+    /// Fanuc, it may jump within the loop it is in or out of it (forward or
+    /// back), never into one; in a subroutine, only within it. The search
+    /// goes forward from the GOTO first, then from the start.
+    fn goto(&mut self, label: u64, at: Span) {
+        if let Some((frame, index, line)) = self.label_in_frames(label) {
+            if self.jump_counted(at, line) {
+                self.frames.truncate(frame + 1);
+                self.frames[frame].next = index;
+            }
+            return;
+        }
+        let running = self.frames.iter().position(|frame| !matches!(frame.kind, FrameKind::Branch));
+        let inner = running.map_or(&[][..], |first| &self.frames[first..]);
+        if let Some(head) = inner.iter().find_map(|frame| label_inside(&frame.body, label)) {
+            let message = format!("GOTO {label} jumps into {}, at line {}", head.describe(), head.span.line);
+            let help = "a Fanuc refuses a jump into a loop (alarm 128): jump to its head, or out of it";
+            return self.jump_failed(Diagnostic::error(at, message).with_help(help));
+        }
+        if let Some(origin) = self.origin() {
+            let message = format!("GOTO {label}: {} has no line N{label}", origin.what);
+            let help = "a GOTO jumps within the program or subroutine it is in";
+            return self.jump_failed(Diagnostic::error(at, message).with_help(help));
+        }
+        self.jump_in_program(label, at);
+    }
+
+    /// A GOTO in the main program's lines, to a line outside every block
+    /// running: those stop, and the program reads on from the label, its
+    /// lines read again from the history of the text.
+    fn jump_in_program(&mut self, label: u64, at: Span) {
+        let Some(history) = self.history.clone() else {
+            return self.jump_failed(Diagnostic::error(at, "GOTO: the program's lines are not kept to jump to"));
+        };
+        let forward = |interpreter: &Self| interpreter.label_lines(label).into_iter().find(|found| found.line > at.line);
+        if forward(self).is_none() {
+            // Read on to it (or to the end: a Fanuc searches on, then from
+            // the start). The lines read are kept as text; if there is no
+            // jump, they run after the ones waiting.
+            let first = history.borrow().lines() + 1;
+            while self.next_line_from_program().is_some_and(|line| line.label() != Some(label)) {}
+            if history.borrow().lines() >= first {
+                let text = history.borrow().from_line(first);
+                let read = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).starting_at(first).pieces();
+                let waiting = self.replay.take().unwrap_or_else(|| Box::new(std::iter::empty()));
+                self.replay = Some(Box::new(waiting.chain(read)));
+            }
+        }
+        let Some(target) = forward(self).or_else(|| self.label_lines(label).first().copied()) else {
+            let message = format!("GOTO {label}: the program has no line N{label}");
+            let help = "a Fanuc stops with alarm 128: the sequence number is not found";
+            return self.jump_failed(Diagnostic::error(at, message).with_help(help));
+        };
+        if target.open_blocks > 0 {
+            let message = format!("GOTO {label} jumps into a loop or block, at line {}", target.line);
+            return self.jump_failed(Diagnostic::error(at, message).with_help(INTO_A_BLOCK));
+        }
+        if !self.jump_counted(at, target.line) {
+            return;
+        }
+        self.frames.clear();
+        self.ahead.clear();
+        let text = history.borrow().from_line(target.line);
+        let lexer = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).starting_at(target.line);
+        self.replay = Some(Box::new(lexer.pieces()));
+    }
+
+    /// The lines labelled `label` read so far, in order.
+    fn label_lines(&self, label: u64) -> Vec<Label> {
+        let mut found: Vec<Label> = self.labels.get(&label).copied().into_iter().collect();
+        found.extend(self.more_labels.iter().filter(|(n, _)| *n == label).map(|(_, found)| *found));
+        found.sort_by_key(|found| found.line);
+        found
+    }
+
+    /// Counts a jump back, as a loop's iteration; false if it is not taken:
+    /// the jump has gone back `limits.iterations` times, or an error came
+    /// while its lines ran. The program goes on after the GOTO then.
+    fn jump_counted(&mut self, at: Span, target: u32) -> bool {
+        if target > at.line {
+            return true;
+        }
+        self.jumped.get_or_insert(at);
+        let level = self.store.levels.len();
+        let failed = self.last_error.take().filter(|&(line, at_level)| at_level == level && (target..=at.line).contains(&line));
+        if failed.is_some() {
+            self.goto_loops.clear();
+            let message = "this GOTO stopped at the error above: it does not jump back again";
+            let help = "an error ends the loop it is in; the program goes on after it";
+            self.error(Diagnostic::error(at, message).with_help(help));
+            return false;
+        }
+        let index = match self.goto_loops.iter().position(|jump| jump.site == at.line && jump.level == level) {
+            Some(index) => index,
+            None => {
+                self.goto_loops.push(GotoLoop { site: at.line, target, level, jumps: 0 });
+                self.goto_loops.len() - 1
+            }
+        };
+        let jump = &mut self.goto_loops[index];
+        jump.target = jump.target.min(target);
+        jump.jumps += 1;
+        if jump.jumps < self.limits.iterations {
+            return true;
+        }
+        let jumps = jump.jumps;
+        self.goto_loops.remove(index);
+        let message = format!("this GOTO jumped back {jumps} times without ending: stopped");
+        let help = "raise [machine] max_iterations in ger.toml if it is meant to run longer";
+        self.error(Diagnostic::error(at, message).with_help(help));
+        false
+    }
+
+    /// A GOTO that cannot jump stops the program, as a Fanuc's alarm does.
+    fn jump_failed(&mut self, diagnostic: Diagnostic) {
+        self.error(diagnostic);
+        self.end_program();
+    }
+
+    fn end_program(&mut self) {
+        self.frames.clear();
+        self.open.clear();
+        self.ahead.clear();
+        self.replay = None;
+        self.done = true;
+    }
+
+    /// Where `label` is in the bodies running (those of loops and calls),
+    /// innermost first, not beyond the call the GOTO is in: the frame, the
+    /// index in its body and the line. Forward from the GOTO first.
+    fn label_in_frames(&self, label: u64) -> Option<(usize, usize, u32)> {
+        let first = self.frames.iter().position(|frame| !matches!(frame.kind, FrameKind::Branch))?;
+        for (index, frame) in self.frames.iter().enumerate().skip(first).rev() {
+            let at = |node: &Node| matches!(node, Node::Line(line) if line.label() == Some(label));
+            let forward = frame.body[frame.next..].iter().position(at).map(|i| i + frame.next);
+            if let Some(found) = forward.or_else(|| frame.body.iter().position(at)) {
+                let Node::Line(line) = &frame.body[found] else { unreachable!("found a line") };
+                return Some((index, found, line.number()));
+            }
+            if matches!(frame.kind, FrameKind::Call { .. }) {
+                break;
+            }
+        }
+        None
     }
 
     /// Reads on to the definition of a subroutine called above it, as
@@ -662,7 +1321,8 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     /// of that part meanwhile). True if it was found.
     fn look_ahead_for(&mut self, label: &str) -> bool {
         while let Some(line) = self.next_line() {
-            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label);
+            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label)
+                || self.fanuc_block(&line).is_some_and(|c| c.keyword == Keyword::Program && c.label == label);
             if !defines {
                 self.ahead.push_back(line);
                 continue;
@@ -696,8 +1356,143 @@ impl<L: Iterator<Item = Piece>> Interpreter<L> {
     }
 }
 
+/// Finds program `n` in a file of its own: the file's name and its text.
+pub type FindProgram<'a> = Box<dyn FnMut(u32) -> Option<(String, Vec<u8>)> + 'a>;
+
 /// Fanuc's alarm parameter: setting it stops the program with a message.
 const ALARM: u32 = 3000;
+
+/// Fanuc's pause parameter: setting it stops the program (M00) with a message.
+const PAUSE: u32 = 3006;
+
+/// A call to a Fanuc program: `M98 P.. L..`, or `G65 P.. L..` and its arguments.
+struct FanucCall {
+    macro_call: bool,
+    at: Span,
+    program: Option<f64>,
+    repeat: f64,
+    args: Vec<(char, f64, Span)>,
+}
+
+/// A call found and ready to run.
+struct Ready {
+    sub: Rc<Sub>,
+    origin: Arc<Origin>,
+    /// A G65's locals; an M98 shares its caller's.
+    locals: Option<Locals>,
+    repeat: u64,
+    /// Whether the program is in a file of its own.
+    file: bool,
+}
+
+/// The call a line makes, if it has `G65` or `M98`.
+fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
+    let words = || {
+        tokens.iter().filter_map(|token| match token.kind {
+            TokenKind::Word { letter, value } => Some((letter, value, token.span)),
+            _ => None,
+        })
+    };
+    let (macro_call, at) = words().find_map(|(letter, value, span)| match (letter, value) {
+        ('G', 65.0) => Some((true, span)),
+        ('M', 98.0) => Some((false, span)),
+        _ => None,
+    })?;
+    let value = |wanted: char| words().find(|(letter, ..)| *letter == wanted).map(|(_, value, _)| value);
+    let args = if macro_call {
+        words().filter(|(letter, value, _)| !matches!((letter, value), ('G', 65.0) | ('P' | 'L', _))).collect()
+    } else {
+        Vec::new()
+    };
+    Some(FanucCall { macro_call, at, program: value('P'), repeat: value('L').unwrap_or(1.0), args })
+}
+
+/// M30, M2 or M47 in a called program, as pass 00 says of them in a subprogram.
+fn ends_program(tokens: &[Token]) -> Option<Diagnostic> {
+    tokens.iter().find_map(|token| match token.kind {
+        TokenKind::Word { letter: 'M', value: 47.0 } => Some(
+            Diagnostic::error(token.span, "M47 inside a subprogram")
+                .with_help("M47 repeats the main program; a subprogram repeats with M98 P.. L.."),
+        ),
+        TokenKind::Word { letter: 'M', value } if value == 30.0 || value == 2.0 => Some(
+            Diagnostic::error(token.span, format!("M{value} inside a subprogram"))
+                .with_help("a subprogram returns with M99; M30 ends the main program"),
+        ),
+        _ => None,
+    })
+}
+
+/// The local a G65 argument letter sets, as Fanuc's first form of arguments maps them.
+fn argument(letter: char) -> Option<usize> {
+    const LETTERS: [(char, usize); 21] = [
+        ('A', 1),
+        ('B', 2),
+        ('C', 3),
+        ('I', 4),
+        ('J', 5),
+        ('K', 6),
+        ('D', 7),
+        ('E', 8),
+        ('F', 9),
+        ('H', 11),
+        ('M', 13),
+        ('Q', 17),
+        ('R', 18),
+        ('S', 19),
+        ('T', 20),
+        ('U', 21),
+        ('V', 22),
+        ('W', 23),
+        ('X', 24),
+        ('Y', 25),
+        ('Z', 26),
+    ];
+    LETTERS.iter().find(|(known, _)| *known == letter).map(|(_, number)| *number)
+}
+
+const INTO_A_BLOCK: &str = "a Fanuc refuses a jump into a loop (alarm 128): jump to its head, or out of it";
+
+/// A GOTO's target as a Fanuc reads it: a sequence number from 1 to 99999
+/// (a parameter's value rounded).
+fn label(value: f64, at: Span) -> Result<u64, Diagnostic> {
+    let number = value.round();
+    if (1.0..=99999.0).contains(&number) {
+        return Ok(number as u64);
+    }
+    Err(Diagnostic::error(at, format!("GOTO {value}: a line's sequence number is 1 to 99999"))
+        .with_help("a Fanuc stops with alarm 128 here"))
+}
+
+/// The next line from `source`, whole, gathered in `line`.
+fn whole_line(source: &mut impl Iterator<Item = Piece>, line: &mut Line) -> Option<Line> {
+    loop {
+        match source.next() {
+            Some(Piece::Lexed(Lexed::Token(token))) if token.kind == TokenKind::End && token.span.len == 0 => {
+                let mut line = std::mem::take(line);
+                line.end = Some(token);
+                return Some(line);
+            }
+            Some(item) => line.items.push(item),
+            None => {
+                let line = std::mem::take(line);
+                return (!line.items.is_empty()).then_some(line);
+            }
+        }
+    }
+}
+
+/// The head of the block inside `body` whose lines have `label`, if any.
+fn label_inside(body: &[Node], label: u64) -> Option<Control> {
+    let has = |body: &[Node]| {
+        body.iter().any(|node| matches!(node, Node::Line(line) if line.label() == Some(label)))
+            || label_inside(body, label).is_some()
+    };
+    body.iter().find_map(|node| match node {
+        Node::Loop(block) if has(&block.body) => Some(block.head.clone()),
+        Node::If(branches) => branches.iter().find(|(_, body)| has(body)).map(|(head, _)| head.clone()),
+        _ => None,
+    })
+}
 
 /// Where a line sets the alarm, if it does.
 fn alarm(assignments: &[(Target, f64, Span)]) -> Option<Span> {
@@ -709,7 +1504,7 @@ fn unmatched(control: &Control) -> Diagnostic {
     Diagnostic::error(control.span, message).with_help("an O-word block opens and closes with the same number")
 }
 
-impl<L: Iterator<Item = Piece>> Iterator for Interpreter<L> {
+impl<L: Iterator<Item = Piece>> Iterator for Interpreter<'_, L> {
     type Item = Lexed;
 
     fn next(&mut self) -> Option<Lexed> {
@@ -806,7 +1601,7 @@ mod tests {
                 "2:5: error: this works out to 100000000000000000000: ger reads numbers up to 10^12",
             ),
             ("#5221 = 1", "2:1: error: #5221 is one of LinuxCNC's system parameters, which ger does not compute"),
-            ("G01 X#0", "2:6: error: there is no parameter #0: they are #1 to #5602"),
+            ("G01 X#-1", "2:6: error: there is no parameter #-1: they are #1 to #5602"),
             ("G01 X#1.5", "2:6: error: a parameter's number must be whole, not 1.5"),
             ("G01 X[1 + ] F10", "2:11: error: expected a value: a number, a parameter, `[expression]` or a function"),
             ("G01 X[1 + 2 F10", "2:13: error: expected `]` to close the `[`"),
@@ -997,5 +1792,196 @@ mod tests {
             flat("WHILE [1] DO1\nEND2"),
             ["3:1: error: END2 has no block DO2 to belong to", "2:1: error: WHILE ... DO1 is never closed"]
         );
+    }
+
+    fn limited(iterations: u64, blocks: u64) -> Config {
+        let limits = RunLimits { iterations, blocks };
+        Config { dialect: DialectConfig { limits, ..Dialect::Lenient.into() }, units: Units::Mm, ..Config::default() }
+    }
+
+    #[test]
+    fn fanuc_goto_jumps_forward_and_back() {
+        // Forward: the lines between are passed over; `GOTO20` and `IF[...]GOTO` glued, as Fanuc reads them.
+        same_as_twin(
+            "G21 G90\n#1 = 1\nIF [#1 EQ 1] GOTO 20\nG01 X5 F10\nN20 G01 X1 F10\nGOTO30\nG01 Y9\nN30 IF[#1 EQ 2]GOTO20\nG00 Z5\nM30",
+            "G21 G90\nG01 X1 F10\nG00 Z5\nM30",
+        );
+        // Back: a loop made of a label and a conditional jump, three passes.
+        same_as_twin(
+            "G21 G90\n#1 = 0\nN10 G01 X#1 F100\n#1 = #1 + 1\nIF [#1 LT 3] GOTO 10\nG00 Z5\nM30",
+            "G21 G90\nG01 X0 F100\nG01 X1\nG01 X2\nG00 Z5\nM30",
+        );
+        // The target may be a parameter or an expression (rounded, as a Fanuc reads an address).
+        same_as_twin(
+            "G21 G90\n#5 = 40.2\nGOTO #5\nN30 G01 X3 F10\nGOTO [#5 + 9.8]\nN40 G01 X4 F10\nGOTO 30\nN50 M30",
+            "G21 G90\nG01 X4 F10\nG01 X3\nM30",
+        );
+        // Nested GOTO loops: two rows of three, each pass of the inner loop counted afresh.
+        same_as_twin(
+            "G21 G90 F50\n#2 = 0\nN1 #1 = 0\nN2 G01 X#1 Y#2\n#1 = #1 + 1\nIF [#1 LT 3] GOTO 2\n#2 = #2 + 1\nIF [#2 LT 2] GOTO 1\nM30",
+            "G21 G90 F50\nG01 X0 Y0\nG01 X1 Y0\nG01 X2 Y0\nG01 X0 Y1\nG01 X1 Y1\nG01 X2 Y1\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_goto_leaves_loops_and_jumps_within_them() {
+        // Out of a WHILE, forward: the loop stops at its third pass.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [1] DO1\n#1 = #1 + 1\nIF [#1 GE 3] GOTO 99\nG01 X#1\nEND1\nG01 Y9\nN99 G00 Z5\nM30",
+            "G21 G90 F50\nG01 X1\nG01 X2\nG00 Z5\nM30",
+        );
+        // Within the loop's body (forward), and out of it back to a line before it: the loop starts again.
+        same_as_twin(
+            "G21 G90 F50\n#2 = 0\nN5 #1 = 0\n#2 = #2 + 1\nWHILE [#1 LT 2] DO1\n#1 = #1 + 1\nIF [#1 EQ 1] GOTO 8\nG01 Y#2\nN8 G01 X#1\nIF [#2 LT 2] GOTO 5\nEND1\nM30",
+            "G21 G90 F50\nG01 X1\nG01 X1\nG01 Y2\nG01 X2\nM30",
+        );
+        // Back within the body: the label is the loop's own line.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 1] DO1\nN7 #1 = #1 + 1\nG01 X#1\nIF [#1 LT 3] GOTO 7\nEND1\nM30",
+            "G21 G90 F50\nG01 X1\nG01 X2\nG01 X3\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_goto_refuses_a_jump_into_a_loop_or_to_no_line() {
+        // Into a loop, from before it (read on to it) and from after it (kept): an error, and the program ends.
+        let got = flat("GOTO 5\nWHILE [1] DO1\nN5 G01 X1 F10\nEND1\nG01 Y1 F10");
+        assert_eq!(got, ["2:1: error: GOTO 5 jumps into a loop or block, at line 4"]);
+        let got = flat("#1 = 0\nWHILE [#1 LT 1] DO1\nN5 G01 X1 F10\n#1 = 1\nEND1\nGOTO 5\nG01 Y1 F10");
+        assert_eq!(got, ["G01 X1.000 F10.000", "7:1: error: GOTO 5 jumps into a loop or block, at line 4"]);
+        // From a loop into another one nested in it.
+        let got = flat("WHILE [1] DO1\nGOTO 6\nWHILE [1] DO2\nN6 G01 X1 F10\nEND2\nEND1");
+        assert_eq!(got, ["3:1: error: GOTO 6 jumps into WHILE ... DO2, at line 4"]);
+        assert_eq!(flat("G01 X1 F10\nGOTO 7\nG01 Y1"), ["G01 X1.000 F10.000", "3:1: error: GOTO 7: the program has no line N7"]);
+        assert_eq!(flat("GOTO 0\nG01 Y1 F10"), ["2:1: error: GOTO 0: a line's sequence number is 1 to 99999", "G01 Y1.000 F10.000"]);
+        // A subroutine's GOTO stays in it.
+        let got = flat("N1 G01 X1 F10\no9 sub\nGOTO 1\no9 endsub\no9 call\nG01 Y1");
+        assert_eq!(got[1], "4:1: error: GOTO 1: o9 has no line N1");
+    }
+
+    #[test]
+    fn a_goto_loop_that_does_not_end_is_stopped() {
+        // Each jump back is an iteration: five passes run, the fifth jump is not taken.
+        let got = run_with("G21 G01 F10\n#1 = 0\nN1 #1 = #1 + 1\nG01 X#1\nGOTO 1\nG01 Y1", &limited(5, 1000), 4);
+        assert_eq!(got.iter().filter(|line| line.starts_with("G01 X")).count(), 5, "{got:?}");
+        assert_eq!(got[got.len() - 2], "5:1: error: this GOTO jumped back 5 times without ending: stopped", "{got:?}");
+        assert_eq!(got[got.len() - 1], "G01 Y1.000");
+        // A jump to its own line, and loops that each end but together run too long: the blocks' budget.
+        let got = run_with("G21 G01 F10\nN1 GOTO 1", &limited(1_000_000, 100), 4);
+        assert_eq!(got, ["2:4: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]);
+        let program = "G21 G01 F10\n#2 = 0\nN1 #1 = 0\nN2 #1 = #1 + 1\nIF [#1 LT 30] GOTO 2\n#2 = #2 + 1\nIF [#2 LT 30] GOTO 1\nG01 X1";
+        let got = run_with(program, &limited(40, 100), 4);
+        assert_eq!(got, ["5:15: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]);
+        // An error while its lines run stops it once, and the program goes on after it.
+        let got = flat("#1 = 0\nN1 #1 = #1 + 1\nG01 X[1/0] F10\nIF [#1 LT 1000] GOTO 1\nG01 Y1 F10");
+        assert_eq!(got.len(), 3, "{got:?}");
+        assert!(got[0].starts_with("4:") && got[0].contains("division by zero"), "{got:?}");
+        assert_eq!(got[1], "5:17: error: this GOTO stopped at the error above: it does not jump back again");
+        assert_eq!(got[2], "G01 Y1.000 F10.000");
+    }
+
+    #[test]
+    fn g65_calls_a_program_with_its_arguments_in_locals() {
+        // A macro after M30, called above it: X -> #24, Y -> #25, Z -> #26, R -> #18.
+        same_as_twin(
+            "G21 G90 F100\nG65 P9000 X10 Y20 Z-1 R2\nG65 P9000 X30 Y5 Z-2 R2\nM30\nO9000 (DRILL)\nG00 X#24 Y#25 Z#18\nG01 Z#26\nG00 Z#18\nM99",
+            "G21 G90 F100\nG00 X10 Y20 Z2\nG01 Z-1\nG00 Z2\nG00 X30 Y5 Z2\nG01 Z-2\nG00 Z2\nM30",
+        );
+        // Every letter of Fanuc's first form lands in its local; unset ones read 0.
+        same_as_twin(
+            "G21 G90 F100\nG65 P1 A1 B2 C3 I4 J5 K6 D7 E8 F9 H11 M13 Q17 R18 S19 T20 U21 V22 W23 X24 Y25 Z26\nM30\n\
+             O1\n#30 = #1 + #2 * 10 + #3 * 100\nG01 X#30 Y[#4 + #5 + #6 + #7 + #8 + #9 + #11 + #13] Z[#17 + #18 + #19 + #20 + #21 + #22 + #23 + #10]\n\
+             G01 X#24 Y#25 Z#26\nM99",
+            "G21 G90 F100\nG01 X321 Y63 Z140\nG01 X24 Y25 Z26\nM30",
+        );
+        // The caller's locals come back after the call; common parameters are shared; L repeats
+        // it with its arguments each time.
+        same_as_twin(
+            "G21 G90 F100\n#1 = 7\n#100 = 0\nG65 P2 A3 L2\nG01 X#1 Y#100\nM30\nO2\n#100 = #100 + #1\n#1 = 50\nG01 X#100\nM99",
+            "G21 G90 F100\nG01 X3\nG01 X6\nG01 X7 Y6\nM30",
+        );
+        // A macro with a loop and a jump of its own: a bolt circle of #11 holes on radius #18.
+        same_as_twin(
+            "G21 G90 F100\nG65 P8000 H4 R10 Z-1\nG00 Z5\nM30\nO8000\n#1 = 0\nWHILE [#1 LT #11] DO1\n\
+             G00 X[#18 * COS[360 * #1 / #11]] Y[#18 * SIN[360 * #1 / #11]]\nIF [#1 EQ 2] GOTO 10\nG01 Z#26\nG00 Z1\nN10 #1 = #1 + 1\nEND1\nM99",
+            "G21 G90 F100\nG00 X10 Y0\nG01 Z-1\nG00 Z1\nG00 X0 Y10\nG01 Z-1\nG00 Z1\nG00 X-10 Y0\n\
+             G00 X0 Y-10\nG01 Z-1\nG00 Z1\nG00 Z5\nM30",
+        );
+    }
+
+    #[test]
+    fn m98_runs_its_program_with_the_parameters_of_the_moment() {
+        // #100 is read when each call runs, not where the program is written; M98 shares
+        // the caller's locals (#1), as on a Fanuc.
+        same_as_twin(
+            "G21 G90 F100\n#100 = 5\n#1 = 1\nM98 P1000\n#100 = 10\nM98 P1000 L2\nG01 Y#1\nM30\nO1000\nG01 X#100\n#100 = #100 + 1\n#1 = #1 + 1\nM99",
+            "G21 G90 F100\nG01 X5\nG01 X10\nG01 X11\nG01 Y4\nM30",
+        );
+        // Other words of an M98 line run before the call; a program defined above its call.
+        same_as_twin(
+            "G21 G90 F100\nM98 P3 L0\nO3\nG01 Z#500\nM99\n#500 = -2\nG01 X1 M98 P3\nM30",
+            "G21 G90 F100\nG01 X1\nG01 Z-2\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_calls_refuse_what_they_cannot_run() {
+        assert_eq!(
+            flat("G65 A1\nG01 X1 F10"),
+            ["2:1: error: G65 needs P, the number of the program it calls (a whole number)", "G01 X1.000 F10.000"]
+        );
+        assert_eq!(flat("G65 P77 A1\nG01 X1 F10"), ["2:1: error: G65 calls O77, which is not in the program", "G01 X1.000 F10.000"]);
+        let got = flat("G65 P5 A1 A2\nM30\nO5\nG01 X#1 F10\nM99");
+        assert_eq!(got[0], "2:11: error: A is given twice: ger reads Fanuc's first form of arguments only");
+        let got = flat("G65 P5 G01\nM30\nO5\nG01 X#1 F10\nM99");
+        assert_eq!(got[0], "2:8: error: G is not one of G65's arguments");
+        // A program that calls itself without end is stopped.
+        let got = flat("M98 P6\nM30\nO6\nM98 P6\nM99");
+        assert_eq!(got[0], "5:1: error: calls nest more than 100 deep: a recursion that does not end?");
+    }
+
+    #[test]
+    fn fanuc_pause_is_a_stop_with_its_message() {
+        same_as_twin("G21 G90\n#3006 = 1 (TURN THE PART)\nG01 X1 F10\nM30", "G21 G90\nM00 (TURN THE PART)\nG01 X1 F10\nM30");
+    }
+
+    #[test]
+    fn the_current_position_is_read_from_the_passes() {
+        // By hand: after the rapid the tool is at (5, 7, 2) in G54 (zero here); after G92 X0 Y0 at (6, 14)
+        // it reads (0, 0); in G20 the 8 mm of X read 0.315 in, twice that is 16 mm (the output is in mm).
+        assert_eq!(
+            flat("G90 G00 X5 Y7 Z2\nG01 X[#5420 + 1] Y[#<_y> * 2] Z[#5422 - 3] F100\nG92 X0 Y0\nG01 X[#<_x> + 2] Y#5421\nG92.1\nG20\nG01 X[#5420 * 2]"),
+            [
+                "G00 X5.000 Y7.000 Z2.000",
+                "G01 X6.000 Y14.000 Z-1.000 F100.000",
+                "G01 X8.000 Y14.000",
+                "G01 X16.000",
+            ]
+        );
+        assert_eq!(flat("#<_x> = 1"), ["2:1: error: #<_x> is the tool's position: it is read, not set"]);
+        // #5220: the coordinate system in force, G54 being 1 and G59.3 9.
+        assert_eq!(flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"), ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]);
+    }
+
+    #[test]
+    fn an_o_number_after_o_word_subroutines_is_the_programs_title() {
+        // LinuxCNC's m98m99/11 and 12: `O1` after an O-word subroutine and a line setting a parameter
+        // names the main program.
+        same_as_twin(
+            "o2 sub\nG00 Z3\no2 endsub\n#1 = 2\nO1 (MAIN)\nG21 G00 X1 Y#1\no2 call\nM30",
+            "G21 G00 X1 Y2\nG00 Z3\nM30",
+        );
+    }
+
+    #[test]
+    fn fanuc_vacant_is_told_from_zero() {
+        // Fanuc's #0: a G65 argument not given is vacant, one given as 0 is not; vacant reads 0
+        // in arithmetic, `#1 = #0` empties #1, and a word whose value is #0 is not there.
+        same_as_twin(
+            "G21 G90 F100\nG65 P7 X0\nG65 P7 X5 Y1\nM30\nO7\nIF [#25 EQ #0] GOTO 1\nG01 Y#25\nN1 IF [#24 NE #0] GOTO 2\nG01 Z9\nN2 G01 X[#24 + #0] Z#0\n\
+             #24 = #0\nIF [#24 EQ #0] THEN #100 = 3\nG01 Z#100\nM99",
+            "G21 G90 F100\nG01 X0\nG01 Z3\nG01 Y1\nG01 X5\nG01 Z3\nM30",
+        );
+        assert_eq!(flat("#0 = 1"), ["2:1: error: #0 is Fanuc's vacant value: it is read, not set"]);
     }
 }

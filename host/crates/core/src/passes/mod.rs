@@ -20,7 +20,7 @@ use crate::macros::Interpreter;
 use crate::parse::parse_in;
 pub use crate::parse::Event;
 use crate::state;
-use crate::statement::Statement;
+use crate::statement::{Dialect, Statement};
 use crate::wizard::Wizards;
 
 pub mod p00_subprograms;
@@ -123,7 +123,29 @@ pub struct Options<'a> {
 /// before any pass. The lenient dialect's parameters and expressions are
 /// worked out between the two, by the interpreter stage.
 pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl Iterator<Item = Event> + 'a {
-    let tokens = Interpreter::new(Lexer::in_dialect(program, dialect.name).pieces(), dialect.limits);
+    parse_finding(program, dialect, None, None)
+}
+
+/// As [`parse`], with `files` finding the programs G65 and M98 call that
+/// are kept in files of their own.
+fn parse_finding<'a, R: BufRead + 'a>(
+    program: R,
+    dialect: &DialectConfig,
+    files: Option<crate::macros::FindProgram<'a>>,
+    position: Option<crate::macros::Position>,
+) -> impl Iterator<Item = Event> + 'a {
+    let lexer = Lexer::in_dialect(program, dialect.name);
+    let tokens = if dialect.name == Dialect::Lenient {
+        // The lines' text is kept for a backward GOTO to read them again.
+        let history = crate::lex::SharedHistory::default();
+        Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits)
+            .with_history(history)
+            .running_fanuc_programs()
+            .finding_programs(files)
+            .reading_position(position)
+    } else {
+        Interpreter::new(lexer.pieces(), dialect.limits)
+    };
     parse_in(tokens, dialect.name).with_code_lists(dialect.codes.clone())
 }
 
@@ -149,7 +171,15 @@ pub fn translate<'a, R: BufRead + 'a>(
         }
     };
     let runtime = WizardRuntime { wizards, probe: probe.clone(), config };
-    let parsed = parse(program, &config.dialect);
+    let mut library = library;
+    let position: crate::macros::Position = {
+        let (probe, units) = (probe.clone(), config.units);
+        Box::new(move || {
+            let snapshot = probe.borrow();
+            (snapshot.program_position(units), snapshot.system)
+        })
+    };
+    let parsed = parse_finding(program, &config.dialect, library.take_program_texts(), Some(position));
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
     let stream = tapped(Box::new(Stage::new(stream, p01_units::Units::new(config.units, probe.clone()))), 1);
     let stream = tapped(

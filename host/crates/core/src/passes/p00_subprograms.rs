@@ -43,6 +43,9 @@ pub struct Library<'a> {
     files: Option<FindFile<'a>>,
     /// The programs found in files, and the files' names.
     found: HashMap<u32, (String, Body)>,
+    /// The text of a program in a file of its own, for the interpreter
+    /// stage to run at G65 or M98 (lenient dialect).
+    texts: Option<crate::macros::FindProgram<'a>>,
 }
 
 type Reopen<'a> = Box<dyn FnMut() -> Box<dyn Iterator<Item = Event> + 'a> + 'a>;
@@ -55,7 +58,7 @@ type Found = (Body, Option<String>);
 impl<'a> Library<'a> {
     /// Only the subprograms defined before they are called.
     pub fn empty() -> Library<'a> {
-        Library { bodies: HashMap::new(), scan: None, reopen: None, files: None, found: HashMap::new() }
+        Library { bodies: HashMap::new(), scan: None, reopen: None, files: None, found: HashMap::new(), texts: None }
     }
 
     /// `scan` is run the first time a call names a program not seen yet.
@@ -68,6 +71,17 @@ impl<'a> Library<'a> {
     pub fn with_files(mut self, files: impl FnMut(u32) -> Option<(String, Body)> + 'a) -> Library<'a> {
         self.files = Some(Box::new(files));
         self
+    }
+
+    /// `texts` finds the text of a program in a file of its own, which the
+    /// interpreter stage runs at G65 and M98 with the parameters of the moment.
+    pub fn with_program_texts(mut self, texts: impl FnMut(u32) -> Option<(String, Vec<u8>)> + 'a) -> Library<'a> {
+        self.texts = Some(Box::new(texts));
+        self
+    }
+
+    pub(crate) fn take_program_texts(&mut self) -> Option<crate::macros::FindProgram<'a>> {
+        self.texts.take()
     }
 
     /// The body of program `number` in a file of its own: the file's first

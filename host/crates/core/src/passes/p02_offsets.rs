@@ -244,6 +244,7 @@ impl Pass for Offsets {
                     }
                     Offset::WorkOffset(entry) => {
                         self.system = *entry;
+                        self.probe.borrow_mut().system = *entry;
                         self.rotation = self.rotations[usize::from(*entry - 1)];
                         self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry));
                     }
