@@ -13,8 +13,9 @@ use crate::profile::ArcCheck;
 /// circle; ger keeps a margin over it.
 const FULL_TURN_ANGLE: f64 = 1e-6;
 
-/// GRBL works in 32-bit floats: the arc is judged against 80% of its limits.
-const MARGIN: f64 = 0.8;
+/// GRBL works in 32-bit floats, whose steps are 0.06 µm at a metre: an arc
+/// is judged against its limits less this many millimetres.
+const MARGIN_MM: f64 = 0.0002;
 
 /// Whether the controller refuses the arc from `start` round `centre` to
 /// `end`, whose lengths are `mm_per_unit` millimetres each (25.4 in inches).
@@ -22,7 +23,7 @@ pub fn refused(check: &ArcCheck, start: [f64; 3], centre: [f64; 2], end: [f64; 3
     let radius = (start[0] - centre[0]).hypot(start[1] - centre[1]) * mm_per_unit;
     let end_radius = (end[0] - centre[0]).hypot(end[1] - centre[1]) * mm_per_unit;
     let off = (end_radius - radius).abs();
-    off > MARGIN * check.most_mm || (off > MARGIN * check.mm && off > MARGIN * check.fraction * radius)
+    off > check.most_mm - MARGIN_MM || (off > check.mm - MARGIN_MM && off > check.fraction * radius - MARGIN_MM)
 }
 
 /// The angle the arc turns through, positive, as a controller reads its
@@ -96,9 +97,9 @@ mod tests {
         assert!(arc(50.04, 100.0));
         // Over 0.5 mm is refused whatever the radius: r = 1000, 0.6 off (0.06%).
         assert!(arc(1000.3, 2000.0));
-        // 80% margin: 0.0041 mm off (over 0.8 * 0.005) on a radius of 1 is refused, 0.0039 is not.
-        assert!(refused(&check(), [0.0; 3], [1.0, 0.0], [2.0041, 0.0, 0.0], 1.0));
-        assert!(!refused(&check(), [0.0; 3], [1.0, 0.0], [2.0039, 0.0, 0.0], 1.0));
+        // A margin of 0.2 µm: 0.0049 mm off on a radius of 1 is refused, 0.0047 is not.
+        assert!(refused(&check(), [0.0; 3], [1.0, 0.0], [2.0049, 0.0, 0.0], 1.0));
+        assert!(!refused(&check(), [0.0; 3], [1.0, 0.0], [2.0047, 0.0, 0.0], 1.0));
         // Inches are judged in millimetres: 0.0002 in off is 0.00508 mm.
         assert!(refused(&check(), [0.0; 3], [0.1, 0.0], [0.2002, 0.0, 0.0], 25.4));
         assert!(!refused(&check(), [0.0; 3], [0.1, 0.0], [0.2002, 0.0, 0.0], 1.0));
