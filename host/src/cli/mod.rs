@@ -138,7 +138,7 @@ struct RunArgs {
     /// The controller the output is for: what its lines may hold (overrides
     /// `target` in the config file). Only the whole translation has one: with
     /// `--stage` below 5 the output is ger's own.
-    #[arg(long, value_enum, value_name = "NAME")]
+    #[arg(long, value_enum, value_name = "NAME", conflicts_with = "stage")]
     target: Option<TargetArg>,
     /// Translate again whenever the program, the config or a wizard changes.
     #[arg(long)]
@@ -264,9 +264,6 @@ fn run(args: &RunArgs) -> Result<i32> {
 }
 
 fn run_once(args: &RunArgs, source: &Source) -> Result<i32> {
-    if args.target.is_some() && args.stage != LAST_STAGE {
-        anyhow::bail!("--target shapes the whole translation: leave out --stage, or --target");
-    }
     let settings = Settings { target: args.target.map(TargetName::from), ..args.common.settings() };
     let mut program = args.common.program_with(settings, source.clone(), Purpose::Translate)?;
     // Withheld: a failed run leaves no half-written output, and writes nothing to a terminal or pipe.

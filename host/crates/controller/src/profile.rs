@@ -67,8 +67,8 @@ pub enum Comments {
     /// Printable ASCII but GRBL's realtime commands `!` `~` `?` (acted on
     /// wherever they come, comments too).
     AsciiWithoutRealtime,
-    /// Upper case, letters, digits, space and `. , = _ -`: what a Fanuc
-    /// takes in a comment on any of its controls.
+    /// Upper case, letters, digits, space and `. , = _ -` (anything else a
+    /// space): what a Fanuc takes in a comment on any of its controls.
     FanucUpper,
 }
 
@@ -122,15 +122,10 @@ pub const GRBL: Profile = Profile {
     ..GENERIC
 };
 
-/// LinuxCNC 2.9: ger's output is its dialect; it has no spindle ranges.
-pub const LINUXCNC: Profile = Profile {
-    name: TargetName::Linuxcnc,
-    label: "LinuxCNC",
-    // rs274ngc: "line number greater than 99999".
-    max_line_number: Some(99_999),
-    missing_m_codes: &[40, 41],
-    ..GENERIC
-};
+/// LinuxCNC 2.9: ger's output is its dialect (rs274 reads N100000 too),
+/// but it has no spindle ranges ("Unknown m code used: M40").
+pub const LINUXCNC: Profile =
+    Profile { name: TargetName::Linuxcnc, label: "LinuxCNC", missing_m_codes: &[40, 41], ..GENERIC };
 
 /// A Fanuc 0i/30i-style control (Haas reads it too).
 pub const FANUC: Profile = Profile {

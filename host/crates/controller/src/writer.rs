@@ -341,11 +341,15 @@ impl Writer {
             Comments::AsciiWithoutRealtime => {
                 text.chars().filter(|c| (' '..='~').contains(c) && !"()!~?".contains(*c)).collect()
             }
-            Comments::FanucUpper => text
-                .to_ascii_uppercase()
-                .chars()
-                .filter(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || " .,=_-".contains(*c))
-                .collect(),
+            Comments::FanucUpper => {
+                // What it cannot hold becomes a space, so words stay apart ("PARTS BRACKET.NC").
+                let kept: String = text
+                    .to_ascii_uppercase()
+                    .chars()
+                    .map(|c| if c.is_ascii_uppercase() || c.is_ascii_digit() || ".,=_-".contains(c) { c } else { ' ' })
+                    .collect();
+                kept.split_whitespace().collect::<Vec<_>>().join(" ")
+            }
         }
     }
 }

@@ -168,7 +168,7 @@ fn fanuc_frames_the_program_and_numbers_it() {
     let mut writer = Writer::new(&config, true);
     assert_eq!(
         writer.preamble("parts/bracket v2.nc"),
-        "%\nO0042 (BRACKET V2.NC)\n(GER TRANSLATED FROM PARTSBRACKET V2.NC FOR FANUC)\nG21\nG90\nG17\n"
+        "%\nO0042 (BRACKET V2.NC)\n(GER TRANSLATED FROM PARTS BRACKET V2.NC FOR FANUC)\nG21\nG90\nG17\n"
     );
     assert_eq!(writer.postamble(), "%\n");
     let (mut text, mut notes) = (String::new(), Vec::new());
