@@ -106,7 +106,7 @@ impl Writer {
                 return self.arc(statement, m, out, notes);
             }
             Kind::Machine { code: Machine::ToolChange, s, t } if p.tool_change == ToolChange::Pause => {
-                return self.tool_change(*s, *t, out);
+                return self.tool_change(statement, *s, *t, out, notes);
             }
             Kind::Machine { code: Machine::Mist, .. } if p.mist_optional && !self.options.mist => {
                 let why = "M07 left out: GRBL is built without mist coolant unless [target] mist = true says otherwise";
@@ -210,23 +210,25 @@ impl Writer {
         }
     }
 
-    fn tool_change(&mut self, s: Option<f64>, t: Option<u32>, out: &mut String) {
+    fn tool_change(
+        &mut self,
+        statement: &Statement,
+        s: Option<f64>,
+        t: Option<u32>,
+        out: &mut String,
+        notes: &mut Vec<Diagnostic>,
+    ) {
         let tool = t.map_or("the next tool".to_string(), |t| t.to_string());
-        match &self.options.tool_change {
-            Some(block) => {
-                for line in block.replace("{tool}", &tool).lines() {
-                    out.push_str(line);
-                    out.push('\n');
-                }
-            }
-            None => {
-                // LinuxCNC's M06 stops the spindle, and programs start it again after one.
-                out.push_str("M05\n");
-                out.push_str(&format!("M00 ({})\n", self.comment_text(&format!("MSG, load tool {tool}"))));
-            }
+        let block = match &self.options.tool_change {
+            Some(block) => block.replace("{tool}", &tool),
+            // LinuxCNC's M06 stops the spindle, and programs start it again after one.
+            None => format!("M05\nM00 ({})", self.comment_text(&format!("MSG, load tool {tool}"))),
+        };
+        for text in block.lines() {
+            self.line(statement.span.line, text, out, notes);
         }
         if let Some(s) = s {
-            out.push_str(&format!("S{s}\n"));
+            self.line(statement.span.line, &format!("S{s}"), out, notes);
         }
     }
 
