@@ -198,4 +198,7 @@ fn a_target_the_config_cannot_name_is_an_error_there() {
     let err = Config::from_toml("[target]\nname = \"fanuc\"\nprogram_number = 10000\n").unwrap_err();
     assert!(err.message.contains("program_number"), "{}", err.message);
     assert_eq!(err.span.line, 3);
+    let err = Config::from_toml("units = \"mm\"\n[target]\nname = \"grbl\"\ntool_lengths = { 4 = nan }\n").unwrap_err();
+    assert!(err.message.contains("H4 must be within ±1000 mm"), "{}", err.message);
+    assert!(Config::from_toml("[target]\nname = \"grbl\"\ntool_change = \"M00 (é)\"\n").is_err());
 }

@@ -686,7 +686,7 @@ impl Config {
             let message = "[target] program_number must be from 1 to 9999, as a Fanuc's O number".to_string();
             return Err(at(&key("target", "program_number"), message));
         }
-        if let Some((h, _)) = target.tool_lengths.iter().find(|(_, l)| !(l.abs() <= tool_size)) {
+        if let Some((h, _)) = target.tool_lengths.iter().find(|(_, l)| !l.is_finite() || l.abs() > tool_size) {
             let message = format!("[target] tool_lengths: H{h} must be within ±{tool_size} {unit}");
             return Err(at(&key("target", "tool_lengths"), message));
         }
