@@ -14,7 +14,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use error::{cannot_write, Shown};
-use ger_core::config::{Config, Step};
+use ger_core::config::{Config, Step, TargetName};
 use ger_core::emit::{preamble, Emitter};
 use ger_core::lex::{Lexed, Lexer, TokenKind};
 use ger_core::parse::parse;
@@ -135,9 +135,35 @@ struct RunArgs {
     /// Leave out the N<line> on each output line.
     #[arg(long)]
     no_line_numbers: bool,
+    /// The controller the output is for: what its lines may hold (overrides
+    /// `target` in the config file). Only the whole translation has one: with
+    /// `--stage` below 5 the output is ger's own.
+    #[arg(long, value_enum, value_name = "NAME", conflicts_with = "stage")]
+    target: Option<TargetArg>,
     /// Translate again whenever the program, the config or a wizard changes.
     #[arg(long)]
     watch: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TargetArg {
+    Generic,
+    Grbl,
+    Linuxcnc,
+    Fanuc,
+    Mach3,
+}
+
+impl From<TargetArg> for TargetName {
+    fn from(target: TargetArg) -> TargetName {
+        match target {
+            TargetArg::Generic => TargetName::Generic,
+            TargetArg::Grbl => TargetName::Grbl,
+            TargetArg::Linuxcnc => TargetName::Linuxcnc,
+            TargetArg::Fanuc => TargetName::Fanuc,
+            TargetArg::Mach3 => TargetName::Mach3,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -186,6 +212,7 @@ impl CommonArgs {
                 UnitsArg::Inch => Units::Inch,
                 UnitsArg::Mm => Units::Mm,
             }),
+            target: None,
         }
     }
 
@@ -198,7 +225,12 @@ impl CommonArgs {
     }
 
     fn program_of(&self, source: Source, purpose: Purpose) -> Result<Program> {
-        let config = self.settings().load(&source, purpose).map_err(|err| Shown(err.render(styled())))?;
+        self.program_with(self.settings(), source, purpose)
+    }
+
+    /// The program on the machine `settings` describe.
+    fn program_with(&self, settings: Settings, source: Source, purpose: Purpose) -> Result<Program> {
+        let config = settings.load(&source, purpose).map_err(|err| Shown(err.render(styled())))?;
         let wizards = self.wizards.runtime(&config);
         Ok(Program::new(source, config).with_wizards(Box::new(wizards)))
     }
@@ -232,16 +264,22 @@ fn run(args: &RunArgs) -> Result<i32> {
 }
 
 fn run_once(args: &RunArgs, source: &Source) -> Result<i32> {
-    let mut program = args.common.program_of(source.clone(), Purpose::Translate)?;
+    let settings = Settings { target: args.target.map(TargetName::from), ..args.common.settings() };
+    let mut program = args.common.program_with(settings, source.clone(), Purpose::Translate)?;
     // Withheld: a failed run leaves no half-written output, and writes nothing to a terminal or pipe.
     let path = args.output.as_deref().unwrap_or(Path::new("-"));
     let mut output = OutputFile::withheld(path).with_context(|| cannot_write(path))?;
-    output
-        .write_all(preamble(&source.name(), program.config().units).as_bytes())
-        .with_context(|| cannot_write(path))?;
-    let report = program
-        .write_translation(args.stage, !args.no_line_numbers, |line| output.write_all(line.as_bytes()))
-        .with_context(|| cannot_write(path))?;
+    let line_numbers = !args.no_line_numbers;
+    let report = if args.stage == LAST_STAGE {
+        program.write_output(&source.name(), line_numbers, |line| output.write_all(line.as_bytes()))
+    } else {
+        // A pass's own output: ger's dialect, whatever the target.
+        let preamble = preamble(&source.name(), program.config().units);
+        output.write_all(preamble.as_bytes()).and_then(|()| {
+            program.write_translation(args.stage, line_numbers, |line| output.write_all(line.as_bytes()))
+        })
+    }
+    .with_context(|| cannot_write(path))?;
     show(&report, source);
     if report.errors() > 0 {
         return Ok(1);

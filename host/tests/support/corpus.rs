@@ -168,8 +168,14 @@ pub fn ger_config(dir: &Path) -> PathBuf {
 /// Runs `ger run --lenient` on a corpus file in `units` (the program's own)
 /// on the machine of `config`, for at most `limit`.
 pub fn translate(file: &Path, units: &str, config: &Path, limit: Duration) -> Finished {
+    translate_for(file, units, config, "generic", limit)
+}
+
+/// [`translate`] for the controller `target` (`ger run --target`).
+pub fn translate_for(file: &Path, units: &str, config: &Path, target: &str, limit: Duration) -> Finished {
     let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
-    command.args(["run", "--lenient", "--units", units, "--config"]).arg(config).arg(file).env("NO_COLOR", "1");
+    command.args(["run", "--lenient", "--units", units, "--target", target, "--config"]);
+    command.arg(config).arg(file).env("NO_COLOR", "1");
     super::process::run(&mut command, limit)
 }
 

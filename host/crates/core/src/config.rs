@@ -44,6 +44,120 @@ pub struct Config {
     /// What `ger check` looks for.
     #[serde(default)]
     pub check: CheckConfig,
+    /// The controller the output is written for: `target = "grbl"`, or a
+    /// `[target]` table with the name and what that controller has. Only the
+    /// output's shape depends on it (the `ger-controller` crate); the translation
+    /// does not.
+    #[serde(default)]
+    pub target: TargetConfig,
+}
+
+/// The controllers `ger run --target` and `target = "..."` name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TargetName {
+    /// ger's own output: what every controller below reads, with nothing left out.
+    #[default]
+    Generic,
+    Grbl,
+    Linuxcnc,
+    Fanuc,
+    Mach3,
+}
+
+impl TargetName {
+    pub const ALL: [TargetName; 5] =
+        [TargetName::Generic, TargetName::Grbl, TargetName::Linuxcnc, TargetName::Fanuc, TargetName::Mach3];
+
+    /// As `ger.toml` and `--target` write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            TargetName::Generic => "generic",
+            TargetName::Grbl => "grbl",
+            TargetName::Linuxcnc => "linuxcnc",
+            TargetName::Fanuc => "fanuc",
+            TargetName::Mach3 => "mach3",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<TargetName> {
+        TargetName::ALL.into_iter().find(|target| target.name() == name)
+    }
+}
+
+/// `target = "grbl"`, or a `[target]` table: the name, and what that
+/// controller has beyond its defaults.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TargetConfig {
+    pub name: TargetName,
+    /// GRBL: the board was built with mist coolant (M7); without it an M7 is left out.
+    pub mist: bool,
+    /// GRBL: the lines a tool change (M06) becomes, `{tool}` standing for its
+    /// number; default a spindle stop and a pause naming the tool.
+    pub tool_change: Option<String>,
+    /// GRBL: tool lengths by H register, in machine units, for `G43 Hn` to
+    /// become `G43.1 Z<length>`; an H not listed is left out with a note.
+    pub tool_lengths: Vec<(u32, f64)>,
+    /// Fanuc: the program's O number (1 to 9999).
+    pub program_number: Option<u32>,
+}
+
+mod target_config {
+    use std::collections::BTreeMap;
+
+    use serde::de::{self, Deserializer, MapAccess, Visitor};
+    use serde::Deserialize;
+
+    use super::{TargetConfig, TargetName};
+
+    fn name<E: de::Error>(text: &str) -> Result<TargetName, E> {
+        TargetName::from_name(text).ok_or_else(|| {
+            let names: Vec<&str> = TargetName::ALL.iter().map(|t| t.name()).collect();
+            E::custom(format!("target must be one of {}, not \"{text}\"", names.join(", ")))
+        })
+    }
+
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Table {
+        name: String,
+        #[serde(default)]
+        mist: bool,
+        tool_change: Option<String>,
+        #[serde(default)]
+        tool_lengths: BTreeMap<u32, f64>,
+        program_number: Option<u32>,
+    }
+
+    struct TargetVisitor;
+
+    impl<'de> Visitor<'de> for TargetVisitor {
+        type Value = TargetConfig;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a target's name, or a [target] table")
+        }
+
+        fn visit_str<E: de::Error>(self, text: &str) -> Result<TargetConfig, E> {
+            Ok(TargetConfig { name: name::<E>(text)?, ..TargetConfig::default() })
+        }
+
+        fn visit_map<M: MapAccess<'de>>(self, map: M) -> Result<TargetConfig, M::Error> {
+            let table = Table::deserialize(de::value::MapAccessDeserializer::new(map))?;
+            Ok(TargetConfig {
+                name: name(&table.name)?,
+                mist: table.mist,
+                tool_change: table.tool_change,
+                tool_lengths: table.tool_lengths.into_iter().collect(),
+                program_number: table.program_number,
+            })
+        }
+    }
+
+    impl<'de> Deserialize<'de> for TargetConfig {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<TargetConfig, D::Error> {
+            d.deserialize_any(TargetVisitor)
+        }
+    }
 }
 
 /// The machine beyond its unit and tables.
@@ -341,6 +455,7 @@ impl Default for Config {
             stock: StockConfig::default(),
             render: RenderConfig::default(),
             check: CheckConfig::default(),
+            target: TargetConfig::default(),
         }
     }
 }
@@ -597,6 +712,24 @@ impl Config {
                  and at most {tool_size} {unit}"
             );
             return Err(at(&key("machine", "spline_tolerance"), message));
+        }
+        let target = &self.target;
+        if target.program_number.is_some_and(|n| !(1..=9999).contains(&n)) {
+            let message = "[target] program_number must be from 1 to 9999, as a Fanuc's O number".to_string();
+            return Err(at(&key("target", "program_number"), message));
+        }
+        if let Some((h, _)) = target.tool_lengths.iter().find(|(_, l)| !l.is_finite() || l.abs() > tool_size) {
+            let message = format!("[target] tool_lengths: H{h} must be within ±{tool_size} {unit}");
+            return Err(at(&key("target", "tool_lengths"), message));
+        }
+        // A tool change block goes to the controller as it is: one that could not be a line of G-code is a mistake.
+        if target
+            .tool_change
+            .as_ref()
+            .is_some_and(|block| !block.chars().all(|c| c == '\n' || (' '..='~').contains(&c)))
+        {
+            let message = "[target] tool_change must be printable ASCII lines".to_string();
+            return Err(at(&key("target", "tool_change"), message));
         }
         if self.check.min_arc_radius.is_some_and(|r| !(0.0..=tool_size).contains(&r)) {
             let message = format!("[check] min_arc_radius must be from 0 to {tool_size} {unit}");

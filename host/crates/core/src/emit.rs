@@ -11,6 +11,19 @@ use crate::statement::{
 pub struct Emitter {
     decimals: usize,
     line_numbers: bool,
+    numbers: Numbers,
+}
+
+/// How a number is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Numbers {
+    /// Always the unit's decimals (`X1.000`): ger's own form.
+    Fixed,
+    /// No trailing zeros (`X1`, `X1.25`), and at most this many digits, the
+    /// leading `0` of `0.5` counted: for a controller that drops the digits
+    /// past its limit (GRBL reads 8). Decimals go first; a number whose whole
+    /// part alone is longer is written whole.
+    Short { max_digits: usize },
 }
 
 /// The lines that open every translation: where it came from, and the modes
@@ -31,7 +44,13 @@ fn pass_through_code(code: u32) -> String {
 
 impl Emitter {
     pub fn new(decimals: usize, line_numbers: bool) -> Emitter {
-        Emitter { decimals, line_numbers }
+        Emitter { decimals, line_numbers, numbers: Numbers::Fixed }
+    }
+
+    /// The same emitter, writing numbers in `numbers`' form.
+    pub fn with_numbers(mut self, numbers: Numbers) -> Emitter {
+        self.numbers = numbers;
+        self
     }
 
     /// One statement as a line of G-code, without the newline.
@@ -234,8 +253,39 @@ impl Emitter {
         if let Some(v) = value {
             out.push(' ');
             out.push(letter);
-            push_number(out, v.value, self.decimals);
+            self.number(out, v.value);
         }
+    }
+
+    /// Appends a number as this emitter writes a word's value.
+    pub fn number(&self, out: &mut String, value: f64) {
+        match self.numbers {
+            Numbers::Fixed => push_number(out, value, self.decimals),
+            Numbers::Short { max_digits } => push_short_number(out, value, self.decimals, max_digits),
+        }
+    }
+}
+
+/// [`Numbers::Short`]: at most `decimals`, rounded once from the value (never
+/// from a rounded text), fewer when the digits would pass `max_digits`.
+pub fn push_short_number(out: &mut String, value: f64, decimals: usize, max_digits: usize) {
+    let start = out.len();
+    let mut places = decimals;
+    loop {
+        out.truncate(start);
+        push_number(out, value, places);
+        let digits = out[start..].bytes().filter(u8::is_ascii_digit).count();
+        if digits <= max_digits || places == 0 {
+            break;
+        }
+        places = places.saturating_sub(digits - max_digits);
+    }
+    if out[start..].contains('.') {
+        let kept = out.trim_end_matches('0').trim_end_matches('.').len();
+        out.truncate(kept);
+    }
+    if &out[start..] == "-0" {
+        out.replace_range(start.., "0");
     }
 }
 
@@ -320,6 +370,27 @@ mod tests {
                 assert_eq!(number(value, decimals), std, "{value}");
             }
         }
+    }
+
+    fn short(value: f64, decimals: usize, max_digits: usize) -> String {
+        let mut s = String::from("X");
+        push_short_number(&mut s, value, decimals, max_digits);
+        s[1..].to_string()
+    }
+
+    #[test]
+    fn short_numbers_drop_trailing_zeros_and_digits_past_the_limit() {
+        assert_eq!(short(1.0, 3, 8), "1");
+        assert_eq!(short(1.25, 3, 8), "1.25");
+        assert_eq!(short(-0.0004, 3, 8), "0");
+        assert_eq!(short(-0.0006, 3, 8), "-0.001");
+        assert_eq!(short(0.1234, 4, 8), "0.1234");
+        // 12345.6789 has 9 digits: one decimal goes, rounded from the value.
+        assert_eq!(short(12345.6789, 4, 8), "12345.679");
+        // Rounding can add a digit: 99999.9996 is 100000.000, 9 digits, so 100000.00 -> 100000.
+        assert_eq!(short(99999.9996, 3, 8), "100000");
+        assert_eq!(short(123456789.4, 3, 8), "123456789");
+        assert_eq!(short(2.5, 0, 8), "3");
     }
 
     #[test]

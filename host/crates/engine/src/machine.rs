@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ger_core::config::{locate, Config, Step, StockConfig};
+use ger_core::config::{locate, Config, Step, StockConfig, TargetName};
 use ger_core::diag::Diagnostic;
 use ger_core::statement::{Dialect, Units};
 use ger_core::tools;
@@ -20,6 +20,8 @@ pub struct Settings {
     pub lenient: bool,
     /// The machine's unit, whatever the file says.
     pub units: Option<Units>,
+    /// The controller the output is for, whatever the file says.
+    pub target: Option<TargetName>,
 }
 
 /// What a job does with the program. Only one that cuts a stock has a use
@@ -90,6 +92,9 @@ impl Settings {
         }
         if let Some(units) = self.units {
             config.units = units;
+        }
+        if let Some(target) = self.target {
+            config.target.name = target;
         }
         let stock_wanted = purpose == Purpose::Cut && config.stock == StockConfig::default();
         let wanted = !config.has_tool_table() || stock_wanted;

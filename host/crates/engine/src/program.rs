@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use ger_check::{Checker, Rule, Verdict};
+use ger_controller::Writer;
 use ger_core::config::{quoted, Bounds, Config, MAX_MEMORY_MIB};
 use ger_core::emit::Emitter;
 use ger_core::passes::{translate, Event, Options, LAST_STAGE};
@@ -205,6 +206,38 @@ impl Program {
                 Event::Diagnostic(diagnostic) => report.add(diagnostic),
             }
         }
+        Ok(report)
+    }
+
+    /// The whole translation as its target controller (`[target]`, `generic`
+    /// by default) takes it: the preamble naming `source_name`, every
+    /// statement in the target's lines, and its closing lines. The target's
+    /// notes (what it left out) join the report as warnings.
+    pub fn write_output(
+        &mut self,
+        source_name: &str,
+        line_numbers: bool,
+        mut write: impl FnMut(&str) -> io::Result<()>,
+    ) -> io::Result<Report> {
+        let mut writer = Writer::new(&self.config, line_numbers);
+        write(&writer.preamble(source_name))?;
+        let mut report = Report::default();
+        let mut lines = String::new();
+        let mut notes = Vec::new();
+        for event in self.events(LAST_STAGE) {
+            match event {
+                Event::Statement(statement) => {
+                    lines.clear();
+                    writer.write(&statement, &mut lines, &mut notes);
+                    for note in notes.drain(..) {
+                        report.add(note);
+                    }
+                    write(&lines)?;
+                }
+                Event::Diagnostic(diagnostic) => report.add(diagnostic),
+            }
+        }
+        write(&writer.postamble())?;
         Ok(report)
     }
 
