@@ -382,7 +382,7 @@ mod tests {
             .line_to([0.0, 0.0]);
         let out = square.follow(0.0, 30.0, &both.max(&Heights::level(-3.0))).unwrap();
         let xz: Vec<(f64, Option<f64>)> =
-            out.iter().map(|s| words(s)).map(|w| (w[1].1, w.iter().find(|w| w.0 == 'Z').map(|w| w.1))).collect();
+            out.iter().map(words).map(|w| (w[1].1, w.iter().find(|w| w.0 == 'Z').map(|w| w.1))).collect();
         let stops = [
             (20.0, None),
             (21.0, Some(-1.0)),
