@@ -292,11 +292,20 @@ struct Frame {
 
 enum FrameKind {
     Branch,
-    Loop { block: Rc<Loop>, iterations: u64, remaining: u64 },
+    Loop {
+        block: Rc<Loop>,
+        iterations: u64,
+        remaining: u64,
+    },
     /// A call: with locals of its own (O-word `call`, G65: those it starts
     /// with, again for each repeat) or the caller's (M98); run `remaining` times more.
     /// A program from a file of its own (`file`) says its lines are the call's.
-    Call { origin: Arc<Origin>, locals: Option<Box<Locals>>, remaining: u64, file: bool },
+    Call {
+        origin: Arc<Origin>,
+        locals: Option<Box<Locals>>,
+        remaining: u64,
+        file: bool,
+    },
 }
 
 /// Runs over the lexer's tokens a line at a time: turns expression words
@@ -460,7 +469,13 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             let first = line.words().next();
             match first {
                 Some(('O', value, span)) if value == number as f64 => {
-                    break Control { label: label.to_string(), keyword: Keyword::Program, args: Vec::new(), span, fanuc: true };
+                    break Control {
+                        label: label.to_string(),
+                        keyword: Keyword::Program,
+                        args: Vec::new(),
+                        span,
+                        fanuc: true,
+                    };
                 }
                 _ => return None,
             }
@@ -618,10 +633,12 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                     Ok(_) => {}
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
-                Piece::Macro(Macro::Goto(target), span) => match self.evaluate(target, *span).and_then(|n| label(n, *span)) {
-                    Ok(label) => jump = Some((label, *span)),
-                    Err(diagnostic) => failed = Some(diagnostic),
-                },
+                Piece::Macro(Macro::Goto(target), span) => {
+                    match self.evaluate(target, *span).and_then(|n| label(n, *span)) {
+                        Ok(label) => jump = Some((label, *span)),
+                        Err(diagnostic) => failed = Some(diagnostic),
+                    }
+                }
                 // A plain line has no control piece: `read` takes those.
                 Piece::Macro(Macro::Control(_) | Macro::Label(_), _) => {}
             }
@@ -646,13 +663,17 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 // A call's own words go no further: its body runs in their place.
                 let kept = |token: &Token| match (&call, &token.kind) {
                     (Some(Ready { locals: Some(_), .. }), TokenKind::Word { .. }) => false,
-                    (Some(_), TokenKind::Word { letter, value }) => !matches!((letter, value), ('M', 98.0) | ('P' | 'L', _)),
+                    (Some(_), TokenKind::Word { letter, value }) => {
+                        !matches!((letter, value), ('M', 98.0) | ('P' | 'L', _))
+                    }
                     _ => true,
                 };
                 for token in tokens.into_iter().filter(kept) {
                     self.emit(token);
                 }
-                if let Some(&(_, _, span)) = assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(PAUSE))) {
+                if let Some(&(_, _, span)) =
+                    assignments.iter().find(|(target, ..)| matches!(target, Target::Numbered(PAUSE)))
+                {
                     // Fanuc's #3006 = n (MESSAGE): a stop with the message, which the line's comment carries.
                     self.emit(Token { kind: TokenKind::Word { letter: 'M', value: 0.0 }, span });
                 }
@@ -683,7 +704,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 return Ok(None);
             }
             let message = "G65 needs P, the number of the program it calls (a whole number)";
-            return Err(Diagnostic::error(call.at, message).with_help("G65 P1000 A1 B2 calls O1000 with #1 = 1, #2 = 2"));
+            return Err(
+                Diagnostic::error(call.at, message).with_help("G65 P1000 A1 B2 calls O1000 with #1 = 1, #2 = 2")
+            );
         };
         let label = format!("O{}", number as u64);
         if !self.subs.contains_key(&label) && !self.look_ahead_for(&label) {
@@ -709,7 +732,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             for (letter, value, span) in call.args {
                 let Some(number) = argument(letter) else {
                     let message = format!("{letter} is not one of G65's arguments");
-                    let help = "G65's arguments are A-F, H-K, M and Q-Z (into #1-#26); P names the program, L repeats it";
+                    let help =
+                        "G65's arguments are A-F, H-K, M and Q-Z (into #1-#26); P names the program, L repeats it";
                     return Err(Diagnostic::error(span, message).with_help(help));
                 };
                 if std::mem::replace(&mut given[number - 1], true) {
@@ -753,7 +777,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
 
     /// Whether the line running is in a program M98 or G65 called.
     fn in_fanuc_program(&self) -> bool {
-        self.frames.iter().any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with('O')))
+        self.frames
+            .iter()
+            .any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with('O')))
     }
 
     fn call_depth(&self) -> usize {
@@ -780,7 +806,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 || self.open.last().is_some_and(|open| open.head.keyword == Keyword::Program)
         });
         let program = program.map(|control| match self.open.last() {
-            Some(open) if control.keyword == Keyword::EndProgram => Control { label: open.head.label.clone(), ..control },
+            Some(open) if control.keyword == Keyword::EndProgram => {
+                Control { label: open.head.label.clone(), ..control }
+            }
             _ => control,
         });
         let Some(control) = program.or_else(|| line.control().cloned()) else {
@@ -1203,7 +1231,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let Some(history) = self.history.clone() else {
             return self.jump_failed(Diagnostic::error(at, "GOTO: the program's lines are not kept to jump to"));
         };
-        let forward = |interpreter: &Self| interpreter.label_lines(label).into_iter().find(|found| found.line > at.line);
+        let forward =
+            |interpreter: &Self| interpreter.label_lines(label).into_iter().find(|found| found.line > at.line);
         if forward(self).is_none() {
             // Read on to it (or to the end: a Fanuc searches on, then from
             // the start). The lines read are kept as text; if there is no
@@ -1253,7 +1282,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         }
         self.jumped.get_or_insert(at);
         let level = self.store.levels.len();
-        let failed = self.last_error.take().filter(|&(line, at_level)| at_level == level && (target..=at.line).contains(&line));
+        let failed =
+            self.last_error.take().filter(|&(line, at_level)| at_level == level && (target..=at.line).contains(&line));
         if failed.is_some() {
             self.goto_loops.clear();
             let message = "this GOTO stopped at the error above: it does not jump back again";
@@ -1852,8 +1882,14 @@ mod tests {
         // From a loop into another one nested in it.
         let got = flat("WHILE [1] DO1\nGOTO 6\nWHILE [1] DO2\nN6 G01 X1 F10\nEND2\nEND1");
         assert_eq!(got, ["3:1: error: GOTO 6 jumps into WHILE ... DO2, at line 4"]);
-        assert_eq!(flat("G01 X1 F10\nGOTO 7\nG01 Y1"), ["G01 X1.000 F10.000", "3:1: error: GOTO 7: the program has no line N7"]);
-        assert_eq!(flat("GOTO 0\nG01 Y1 F10"), ["2:1: error: GOTO 0: a line's sequence number is 1 to 99999", "G01 Y1.000 F10.000"]);
+        assert_eq!(
+            flat("G01 X1 F10\nGOTO 7\nG01 Y1"),
+            ["G01 X1.000 F10.000", "3:1: error: GOTO 7: the program has no line N7"]
+        );
+        assert_eq!(
+            flat("GOTO 0\nG01 Y1 F10"),
+            ["2:1: error: GOTO 0: a line's sequence number is 1 to 99999", "G01 Y1.000 F10.000"]
+        );
         // A subroutine's GOTO stays in it.
         let got = flat("N1 G01 X1 F10\no9 sub\nGOTO 1\no9 endsub\no9 call\nG01 Y1");
         assert_eq!(got[1], "4:1: error: GOTO 1: o9 has no line N1");
@@ -1868,10 +1904,16 @@ mod tests {
         assert_eq!(got[got.len() - 1], "G01 Y1.000");
         // A jump to its own line, and loops that each end but together run too long: the blocks' budget.
         let got = run_with("G21 G01 F10\nN1 GOTO 1", &limited(1_000_000, 100), 4);
-        assert_eq!(got, ["2:4: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]);
+        assert_eq!(
+            got,
+            ["2:4: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]
+        );
         let program = "G21 G01 F10\n#2 = 0\nN1 #1 = 0\nN2 #1 = #1 + 1\nIF [#1 LT 30] GOTO 2\n#2 = #2 + 1\nIF [#2 LT 30] GOTO 1\nG01 X1";
         let got = run_with(program, &limited(40, 100), 4);
-        assert_eq!(got, ["5:15: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]);
+        assert_eq!(
+            got,
+            ["5:15: error: after this GOTO jumped back, the program ran 100 blocks without ending: stopped"]
+        );
         // An error while its lines run stops it once, and the program goes on after it.
         let got = flat("#1 = 0\nN1 #1 = #1 + 1\nG01 X[1/0] F10\nIF [#1 LT 1000] GOTO 1\nG01 Y1 F10");
         assert_eq!(got.len(), 3, "{got:?}");
@@ -1930,7 +1972,10 @@ mod tests {
             flat("G65 A1\nG01 X1 F10"),
             ["2:1: error: G65 needs P, the number of the program it calls (a whole number)", "G01 X1.000 F10.000"]
         );
-        assert_eq!(flat("G65 P77 A1\nG01 X1 F10"), ["2:1: error: G65 calls O77, which is not in the program", "G01 X1.000 F10.000"]);
+        assert_eq!(
+            flat("G65 P77 A1\nG01 X1 F10"),
+            ["2:1: error: G65 calls O77, which is not in the program", "G01 X1.000 F10.000"]
+        );
         let got = flat("G65 P5 A1 A2\nM30\nO5\nG01 X#1 F10\nM99");
         assert_eq!(got[0], "2:11: error: A is given twice: ger reads Fanuc's first form of arguments only");
         let got = flat("G65 P5 G01\nM30\nO5\nG01 X#1 F10\nM99");
@@ -1942,7 +1987,10 @@ mod tests {
 
     #[test]
     fn fanuc_pause_is_a_stop_with_its_message() {
-        same_as_twin("G21 G90\n#3006 = 1 (TURN THE PART)\nG01 X1 F10\nM30", "G21 G90\nM00 (TURN THE PART)\nG01 X1 F10\nM30");
+        same_as_twin(
+            "G21 G90\n#3006 = 1 (TURN THE PART)\nG01 X1 F10\nM30",
+            "G21 G90\nM00 (TURN THE PART)\nG01 X1 F10\nM30",
+        );
     }
 
     #[test]
@@ -1960,7 +2008,10 @@ mod tests {
         );
         assert_eq!(flat("#<_x> = 1"), ["2:1: error: #<_x> is the tool's position: it is read, not set"]);
         // #5220: the coordinate system in force, G54 being 1 and G59.3 9.
-        assert_eq!(flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"), ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]);
+        assert_eq!(
+            flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"),
+            ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]
+        );
     }
 
     #[test]
