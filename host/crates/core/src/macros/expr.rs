@@ -315,7 +315,7 @@ impl Expr {
 
     /// Fanuc's test of vacancy, `#n EQ #0`: whether a bare parameter read is
     /// vacant; `None` for any other expression, which is a number.
-    fn vacant(&self, params: &dyn Parameters) -> Result<Option<bool>, Diagnostic> {
+    pub(super) fn vacant(&self, params: &dyn Parameters) -> Result<Option<bool>, Diagnostic> {
         if self.is_vacant() {
             return Ok(Some(true));
         }

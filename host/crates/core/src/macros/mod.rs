@@ -612,13 +612,16 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let mut failed = None;
         let mut skipped = false;
         let mut jump = None;
+        let in_macro = self.in_fanuc_macro();
         for item in &line.items {
             match item {
                 Piece::Lexed(Lexed::Diagnostic(diagnostic)) => self.diagnostic(diagnostic.clone()),
                 _ if failed.is_some() || skipped => {}
                 Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
-                // Fanuc: a word whose value is vacant is not there.
-                Piece::Macro(Macro::Expression { value, .. }, _) if value.is_vacant() => {}
+                // Fanuc: a word whose value is vacant is not there (`G01 X#24` with no X given to
+                // the G65 is `G01`), where parameters can be vacant: in a macro G65 called.
+                Piece::Macro(Macro::Expression { value, .. }, _)
+                    if value.is_vacant() || (in_macro && value.vacant(&self.store) == Ok(Some(true))) => {}
                 Piece::Macro(Macro::Expression { letter, value }, span) => match self.evaluate(value, *span) {
                     Ok(value) => tokens.push(Token { kind: TokenKind::Word { letter: *letter, value }, span: *span }),
                     Err(diagnostic) => failed = Some(diagnostic),
@@ -780,6 +783,16 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         self.frames
             .iter()
             .any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with('O')))
+    }
+
+    /// Whether the locals in force are a macro's `G65` called (an M98
+    /// shares its caller's): there a parameter with no value is vacant, not 0.
+    fn in_fanuc_macro(&self) -> bool {
+        let innermost = self.frames.iter().rev().find_map(|frame| match &frame.kind {
+            FrameKind::Call { origin, locals: Some(_), .. } => Some(origin.what.starts_with('O')),
+            _ => None,
+        });
+        innermost == Some(true)
     }
 
     fn call_depth(&self) -> usize {
@@ -2034,5 +2047,17 @@ mod tests {
             "G21 G90 F100\nG01 X0\nG01 Z3\nG01 Y1\nG01 X5\nG01 Z3\nM30",
         );
         assert_eq!(flat("#0 = 1"), ["2:1: error: #0 is Fanuc's vacant value: it is read, not set"]);
+    }
+
+    #[test]
+    fn in_a_macro_a_word_whose_parameter_is_vacant_is_not_there() {
+        // Fanuc: in O9 called with X and Z only, `G01 X#24 Y#25 Z#26 F#9` is `G01 X.. Z..` (Y, #25, and
+        // F, #9, vacant); an expression reads vacant as 0, and an M98 program shares the macro's locals.
+        // Outside a macro an unset parameter reads 0, as in LinuxCNC.
+        same_as_twin(
+            "G21 G90 F100\nG65 P9 X4 Z-1\nG01 X#24 Y#25\nM30\nO9\nG01 X#24 Y#25 Z#26 F#9\nG01 Y[#25 + 2]\nM98 P8\nM99\n\
+             O8\nG01 X#4 Z#26\nM99",
+            "G21 G90 F100\nG01 X4 Z-1\nG01 Y2\nG01 Z-1\nG01 X0 Y0\nM30",
+        );
     }
 }
