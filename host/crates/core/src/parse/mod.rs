@@ -357,6 +357,8 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
             Some("")
         }
         ('G', 980 | 990) | ('M', 20 | 310 | 330 | 470) => Some(""),
+        // Units alone; with the words of LinuxCNC's and Fanuc's lathe cycles, refused as one.
+        ('G', 700 | 710) => Some("PQDIKUWRF"),
         // Calls of program parts ger cannot read: refused, with why.
         ('M', 970 | 1980) => None,
         // An M code ger does not know passes through with the words I/O and
@@ -560,6 +562,18 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                 return Err(Diagnostic::error(seconds.span, "a dwell cannot be negative"));
             }
             Kind::Dwell(seconds.value)
+        }
+        // Inch and millimetres as Siemens, Fagor, Heidenhain's ISO programs
+        // and older controls write them. LinuxCNC's and Fanuc's G70/G71 are
+        // lathe cycles, which always have words (P Q for the profile).
+        ('G', 700 | 710) if words.list.is_empty() => Kind::Units(if number == 700 { Units::Inch } else { Units::Mm }),
+        ('G', 700 | 710) => {
+            let message =
+                format!("{name} with words is a lathe's finishing or roughing cycle, which a mill does not run");
+            return Err(Diagnostic::error(span, message).with_help(format!(
+                "alone on a mill, {name} selects {}",
+                if number == 700 { "inches (G20)" } else { "millimetres (G21)" }
+            )));
         }
         ('G', 610) => Kind::NoEffect("G61"),
         ('G', 611) => Kind::NoEffect("G61.1"),

@@ -126,6 +126,21 @@ mod tests {
     }
 
     #[test]
+    fn lenient_g70_and_g71_are_inches_and_millimetres_alone() {
+        // Siemens, Fagor and Heidenhain's ISO programs: G70 inches, G71 millimetres. With a lathe
+        // cycle's words they are one, refused; strict reads neither.
+        let lenient =
+            Config { units: statement::Units::Mm, dialect: statement::Dialect::Lenient.into(), ..Config::default() };
+        let got = run_with("G70\nG01 X1 Y-0.5 F10\nG71\nG01 X1", &lenient, 1);
+        assert_eq!(got, ["G01 X25.400 Y-12.700 F254.000", "G01 X1.000"]);
+        assert_eq!(
+            run_with("G71 P10 Q20 D1", &lenient, 1),
+            ["1:1: error: G71 with words is a lathe's finishing or roughing cycle, which a mill does not run"]
+        );
+        assert_eq!(run("G71", 1), ["1:1: error: G71 is not a code ger knows"]);
+    }
+
+    #[test]
     fn units_cannot_change_with_cutter_comp_on() {
         let got = run("G41\nG20\nG21\nG01 X1 F10\nG40\nG21\nG01 X25.4", 1);
         assert_eq!(
