@@ -200,6 +200,10 @@ impl Moves {
             let word = |letter: char| words.iter().find(|w| w.0 == letter).map(|w| w.1);
             // The rest of the preamble (G90, G17) has no line.
             let Some(line) = word('N') else { continue };
+            // G10 L1 writes the tool table: its X Y Z are offsets, not a move.
+            if words.iter().any(|&(letter, code, _)| letter == 'G' && code == 10.0) {
+                continue;
+            }
             let line = Some(line as u32);
             for &(letter, _, decimals) in &words {
                 if "XYZIJKF".contains(letter) {

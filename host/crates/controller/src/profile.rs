@@ -35,6 +35,9 @@ pub struct Profile {
     pub no_pass_through: bool,
     /// The dwell's word: `P` seconds, or Fanuc's `X` seconds (its `P` is milliseconds).
     pub dwell_word: char,
+    /// It reads LinuxCNC's `G10 L1` (a tool table entry written by the
+    /// program); elsewhere the line is left out with a note.
+    pub tool_table_write: bool,
     /// Comments: which characters are kept (others are left out), and
     /// whether they are upper-cased first.
     pub comments: Comments,
@@ -97,6 +100,7 @@ pub const GENERIC: Profile = Profile {
     missing_m_codes: &[],
     no_pass_through: false,
     dwell_word: 'P',
+    tool_table_write: true,
     comments: Comments::Ascii,
     arc_check: None,
 };
@@ -117,6 +121,8 @@ pub const GRBL: Profile = Profile {
     // M40, M41 (spindle range) and M48, M49 (overrides) are error:20.
     missing_m_codes: &[40, 41, 48, 49],
     no_pass_through: true,
+    // No tool table at all.
+    tool_table_write: false,
     comments: Comments::AsciiWithoutRealtime,
     arc_check: Some(ArcCheck { mm: 0.005, fraction: 0.001, most_mm: 0.5 }),
     ..GENERIC
@@ -136,13 +142,22 @@ pub const FANUC: Profile = Profile {
     // Sequence numbers have five digits.
     max_line_number: Some(99_999),
     dwell_word: 'X',
+    // Its offsets are written with G10 L10-L13 into H and D registers, not by tool.
+    tool_table_write: false,
     comments: Comments::FanucUpper,
     ..GENERIC
 };
 
 /// Mach3: I and J may be set absolute in its config, so the output says G91.1.
-pub const MACH3: Profile =
-    Profile { name: TargetName::Mach3, label: "Mach3", setup: &["G91.1"], missing_m_codes: &[40, 41], ..GENERIC };
+/// Its G10 L1 is not known to take LinuxCNC's words, so the line is left out.
+pub const MACH3: Profile = Profile {
+    name: TargetName::Mach3,
+    label: "Mach3",
+    setup: &["G91.1"],
+    missing_m_codes: &[40, 41],
+    tool_table_write: false,
+    ..GENERIC
+};
 
 /// The profile of a target.
 pub fn of(name: TargetName) -> &'static Profile {

@@ -133,6 +133,13 @@ impl Writer {
                 let why = "H left out: GRBL has no tool table (write G43 Hn with [target] tool_lengths)";
                 return self.note(statement, "tool-length", why, out, notes);
             }
+            Kind::SetToolTable { tool, .. } if !p.tool_table_write => {
+                let why = format!(
+                    "G10 L1 left out: {} does not take LinuxCNC's tool table write; set tool {tool}'s length on the controller",
+                    p.label
+                );
+                return self.note(statement, "tool-table", &why, out, notes);
+            }
             Kind::Dwell(seconds) if p.dwell_word != 'P' => {
                 let mut text = format!("G04 {}", p.dwell_word);
                 self.emitter.number(&mut text, *seconds);

@@ -202,3 +202,19 @@ fn a_target_the_config_cannot_name_is_an_error_there() {
     assert!(err.message.contains("H4 must be within ±1000 mm"), "{}", err.message);
     assert!(Config::from_toml("[target]\nname = \"grbl\"\ntool_change = \"M00 (é)\"\n").is_err());
 }
+
+#[test]
+fn a_tool_table_write_goes_only_to_controllers_that_read_g10_l1() {
+    let program = "G10 L1 P2 Z-1 R3\n";
+    assert_eq!(lines("\"linuxcnc\"", program), "G10 L1 P2 Z-1.000 R3.000\n");
+    for (target, label) in [("\"grbl\"", "GRBL"), ("\"fanuc\"", "Fanuc"), ("\"mach3\"", "Mach3")] {
+        let (text, notes) = output(target, program);
+        let why = format!(
+            "G10 L1 left out: {label} does not take LinuxCNC's tool table write; set tool 2's length on the controller"
+        );
+        assert!(text.to_ascii_uppercase().starts_with("(G10 L1 LEFT OUT"), "{target}: {text}");
+        assert_eq!(text.lines().count(), 1, "{target}: {text}");
+        assert_eq!(notes.len(), 1, "{target}: {notes:?}");
+        assert!(notes[0].message.contains(&why), "{target}: {notes:?}");
+    }
+}

@@ -114,6 +114,11 @@ impl Emitter {
                 }
             }
             Kind::ToolLengthCancel => out.push_str("G49"),
+            Kind::SetToolTable { tool, offsets, radius } => {
+                let _ = write!(out, "G10 L1 P{tool}");
+                self.axes(out, "XYZ", offsets);
+                self.value(out, 'R', *radius);
+            }
             Kind::ToolLengthRegister(h) => {
                 let _ = write!(out, "H{h}");
             }

@@ -31,6 +31,7 @@ impl Statement {
             Kind::Motion(m) | Kind::MachineMove(m) => motion(m),
             Kind::Offset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
             Kind::SetWorkOffset { axes: a, rotation, .. } => axes(a) && value(rotation),
+            Kind::SetToolTable { offsets, radius, .. } => axes(offsets) && value(radius),
             Kind::Cycle(c) => axes(&c.target) && value(&c.r) && value(&c.q) && value(&c.p) && value(&c.feed),
             Kind::Machine { s, .. } => s.is_none_or(f64::is_finite),
             Kind::Dwell(v) | Kind::SpindleSpeed(v) => v.is_finite(),
@@ -457,6 +458,15 @@ pub enum Kind {
     },
     /// G49.
     ToolLengthCancel,
+    /// G10 L1 (LinuxCNC, lenient dialect): tool `tool`'s entry in the
+    /// controller's tool table gets the offsets given (Z its length) and the
+    /// radius R. The controller keeps the table (so G43 H reads it there and
+    /// the line goes to the output); cutter compensation takes the radius.
+    SetToolTable {
+        tool: u32,
+        offsets: Axes,
+        radius: Option<Value>,
+    },
     /// An H word with no G43/G44 (lenient dialect): a new register for the
     /// offset in force (Fanuc), or the offset applied as G43 (Fadal).
     ToolLengthRegister(u32),

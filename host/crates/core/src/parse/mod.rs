@@ -629,8 +629,9 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
             let relative = match words.whole('L')? {
                 Some(2) => false,
                 Some(20) => true,
-                // LinuxCNC's L1, L10, L11 and Fanuc's L10-L13 write the tool table.
-                Some(l @ (1 | 10..=13)) => {
+                Some(1) => return tool_table_entry(words, span),
+                // LinuxCNC's L10, L11 (set from where the tool is) and Fanuc's L10-L13 write the tool table.
+                Some(l @ 10..=13) => {
                     let tool = words.whole('P')?.map_or("a tool".to_string(), |p| format!("tool {p}"));
                     let message = format!(
                             "G10 L{l} writes {tool}'s offsets into the controller's tool table, which ger's output leaves to the controller (G43 H passes through), so ger cannot say where its later moves go"
@@ -673,6 +674,23 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         _ => return Err(lenient_refusal(letter, number, name, span)),
     };
     Ok(kind)
+}
+
+/// G10 L1 P<tool> [X Y Z] [R<radius>]: LinuxCNC's direct write of a tool's entry.
+fn tool_table_entry(words: &Words, span: Span) -> Result<Kind, Diagnostic> {
+    let tool = match words.whole('P')? {
+        Some(tool) if tool >= 1 => tool,
+        _ => {
+            let span = words.get('P').map_or(span, |p| p.span);
+            return Err(Diagnostic::error(span, "G10 L1 needs P, the tool whose entry it sets (1 or more)")
+                .with_help("G10 L1 P1 Z0 R3 sets tool 1's length offset to 0 and its radius to 3"));
+        }
+    };
+    let radius = words.get('R');
+    if let Some(r) = radius.filter(|r| r.value < 0.0) {
+        return Err(Diagnostic::error(r.span, "a tool's radius cannot be negative"));
+    }
+    Ok(Kind::SetToolTable { tool, offsets: words.axes("XYZ"), radius })
 }
 
 fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {
@@ -1093,8 +1111,21 @@ mod tests {
     }
 
     #[test]
-    fn g10_that_writes_the_tool_table_is_refused_with_its_reason() {
-        for (program, tool) in [("G10 L1 P1 Z3", "tool 1"), ("G10 L10 P2 Z0", "tool 2"), ("G10 L11 Z0", "a tool")] {
+    fn g10_l1_writes_a_tool_table_entry_and_the_others_are_refused_with_their_reason() {
+        assert_eq!(
+            parsed_lenient("G10 L1 P3 Z-1.5 R2"),
+            ["1:1 SetToolTable { tool: 3, offsets: Axes { x: None, y: None, z: Some(Value { value: -1.5, span: Span { line: 1, col: 11, len: 5 } }) }, radius: Some(Value { value: 2.0, span: Span { line: 1, col: 17, len: 2 } }) }"]
+        );
+        assert_eq!(
+            parsed_lenient("G10 L1 Z0 R1"),
+            ["1:1: error: G10 L1 needs P, the tool whose entry it sets (1 or more)"]
+        );
+        assert_eq!(
+            parsed_lenient("G10 L1 P0 R1"),
+            ["1:8: error: G10 L1 needs P, the tool whose entry it sets (1 or more)"]
+        );
+        assert_eq!(parsed_lenient("G10 L1 P1 R-1"), ["1:11: error: a tool's radius cannot be negative"]);
+        for (program, tool) in [("G10 L10 P2 Z0", "tool 2"), ("G10 L11 Z0", "a tool"), ("G10 L12 P1 R1", "tool 1")] {
             let got = &parsed_lenient(program)[0];
             assert!(got.contains(&format!("writes {tool}'s offsets into the controller's tool table")), "{got}");
         }

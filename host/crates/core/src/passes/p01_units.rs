@@ -62,6 +62,10 @@ impl Pass for Units {
             Kind::Offset { axes, .. } | Kind::SetWorkOffset { axes, .. } | Kind::Home { via: axes, .. } => {
                 *axes = axes.map(|_, v| v * factor)
             }
+            Kind::SetToolTable { offsets, radius, .. } => {
+                *offsets = offsets.map(|_, v| v * factor);
+                scale(radius);
+            }
             Kind::MachineMove(m) => {
                 m.target = m.target.map(|_, v| v * factor);
                 scale(&mut m.feed);
@@ -138,6 +142,13 @@ mod tests {
             ["1:1: error: G71 with words is a lathe's finishing or roughing cycle, which a mill does not run"]
         );
         assert_eq!(run("G71", 1), ["1:1: error: G71 is not a code ger knows"]);
+    }
+
+    #[test]
+    fn a_tool_table_entry_is_written_in_the_machines_unit() {
+        let lenient =
+            Config { units: statement::Units::Mm, dialect: statement::Dialect::Lenient.into(), ..Config::default() };
+        assert_eq!(run_with("G20\nG10 L1 P2 Z-0.5 R0.125", &lenient, 1), ["G10 L1 P2 Z-12.700 R3.175"]);
     }
 
     #[test]

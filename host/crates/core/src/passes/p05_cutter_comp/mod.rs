@@ -572,6 +572,14 @@ impl Pass for CutterComp {
                 self.tool = t.unwrap_or(self.tool);
                 self.pass(statement, out);
             }
+            Kind::SetToolTable { tool, radius: Some(radius), .. } => {
+                // As in LinuxCNC, the compensation in force keeps its radius;
+                // the next G41/G42 with this tool (or D) takes the new one.
+                let (tool, radius) = (*tool, radius.value);
+                self.radii.retain(|(n, _)| *n != tool);
+                self.radii.push((tool, radius));
+                self.pass(statement, out);
+            }
             Kind::End => {
                 self.comp_off(out);
                 self.state = State::Off;
@@ -736,6 +744,28 @@ mod tests {
         assert_eq!(
             comp("M06 T4\nG41"),
             ["M06 T4", "2:1: error: the loaded tool, T4, is not in the tool table: its radius is unknown"]
+        );
+    }
+
+    #[test]
+    fn a_radius_written_with_g10_l1_is_taken_by_the_next_g41() {
+        // Tool 4 is not in the table until G10 L1 writes it, R 0.2: G41 on a move along +X puts the
+        // tool 0.2 to its left. A later write changes the next compensation, not the one in force.
+        let lenient = Config { dialect: crate::statement::Dialect::Lenient.into(), ..Config::default() };
+        assert_eq!(
+            run_with("G10 L1 P4 R0.2\nM06 T4\nG41\nG01 X1 F10\nX2\nG10 L1 P4 R0.3\nX3\nG40\nG01 X4 Y0\nG41 D4\nG01 X5\nX6\nG40\nM30", &lenient, 5),
+            [
+                "G10 L1 P4 R0.2000",
+                "M06 T4",
+                "G01 X1.0000 Y0.2000 F10.0000",
+                "G01 X2.0000 Y0.2000",
+                "G10 L1 P4 R0.3000",
+                "G01 X3.0000 Y0.2000",
+                "G01 X4.0000 Y0.0000",
+                "G01 X5.0000 Y0.3000",
+                "G01 X6.0000 Y0.3000",
+                "M30"
+            ]
         );
     }
 
