@@ -229,6 +229,20 @@ impl Pass for Offsets {
                 let position = self.probe.borrow().position;
                 let system = self.table[usize::from(self.system - 1)];
                 match code {
+                    Offset::G52 | Offset::G92 if self.dialect == Dialect::Lenient => {
+                        // As LinuxCNC and Fanuc: an axis given sets its own offset (G52's from
+                        // the coordinate system's origin; G92's so the tool reads as given), the
+                        // axes not given keep theirs.
+                        let [x, y] = turn([position[0] - system[0], position[1] - system[1]], -self.rotation);
+                        let reads = [x, y, position[2] - system[2]];
+                        for axis in 0..3 {
+                            if let Some(v) = axes.get(axis) {
+                                self.kept_g92[axis] =
+                                    if *code == Offset::G52 { v.value } else { reads[axis] - v.value };
+                            }
+                        }
+                        self.set_prz(self.in_system(self.kept_g92), None);
+                    }
                     Offset::G52 | Offset::G92 => {
                         let prz = match code {
                             Offset::G52 => given,
@@ -246,7 +260,12 @@ impl Pass for Offsets {
                         self.system = *entry;
                         self.probe.borrow_mut().system = *entry;
                         self.rotation = self.rotations[usize::from(*entry - 1)];
-                        self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry));
+                        if self.dialect == Dialect::Lenient && self.entry_in_force.is_none() {
+                            // LinuxCNC and Fanuc: a G52/G92 offset in force moves every coordinate system.
+                            self.set_prz(self.in_system(self.kept_g92), None);
+                        } else {
+                            self.set_prz(self.table[usize::from(*entry - 1)], Some(*entry));
+                        }
                     }
                     Offset::G92Cancel { keep } => {
                         if !*keep {
@@ -288,6 +307,7 @@ impl Pass for Offsets {
                     self.rotation = self.rotations[index];
                     match self.entry_in_force {
                         Some(e) if e == entry => self.set_prz(self.table[index], Some(entry)),
+                        None if self.dialect == Dialect::Lenient => self.set_prz(self.in_system(self.kept_g92), None),
                         _ => self.set_prz(self.prz, self.entry_in_force),
                     }
                 }
@@ -362,6 +382,34 @@ mod tests {
         // The tool is at (2, 3, 0); G92 X0 Y0 makes that program zero.
         let got = run("G00 X2 Y3\nG92 X0 Y0\nG00 X1 Y1\nG91\nX1\nG90\nG92 X10\nX10", 2);
         assert_eq!(got, ["G00 X2.0000 Y3.0000", "G00 X3.0000 Y4.0000", "G91", "G00 X1.0000", "G90", "G00 X4.0000"]);
+    }
+
+    #[test]
+    fn lenient_g52_and_g92_set_the_axes_they_name() {
+        // As rs274 runs it: at (2, 3, 4), G92 X0 Y0 puts program zero at (2, 3, 0); G92 Z10 then
+        // moves Z's alone (the tool at program (1, 1, 1), machine (3, 4, 1): zero at Z -9); G52 X5
+        // sets X's offset from G54's origin (0) and keeps Y's and Z's. The offset moves G55 (origin
+        // (100, 50, -10)) too; after G92.1, G52 X1 is 1 from G55's origin, and stays in G54.
+        let offsets = crate::config::WorkOffsets { g55: Some([100.0, 50.0, -10.0]), ..Default::default() };
+        let config = Config { offsets, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let got = run_with(
+            "G00 X2 Y3 Z4\nG92 X0 Y0\nG00 X1 Y1 Z1\nG92 Z10\nG00 X0 Y0 Z0\nG52 X5\nG00 X0 Y0 Z0\nG55\nG00 X0 Y0 Z0\n\
+             G92.1\nG52 X1\nG00 X0 Y0 Z0\nG54\nG00 X0 Y0 Z0",
+            &config,
+            2,
+        );
+        assert_eq!(
+            got,
+            [
+                "G00 X2.0000 Y3.0000 Z4.0000",
+                "G00 X3.0000 Y4.0000 Z1.0000",
+                "G00 X2.0000 Y3.0000 Z-9.0000",
+                "G00 X5.0000 Y3.0000 Z-9.0000",
+                "G00 X105.0000 Y53.0000 Z-19.0000",
+                "G00 X101.0000 Y50.0000 Z-10.0000",
+                "G00 X1.0000 Y0.0000 Z0.0000"
+            ]
+        );
     }
 
     #[test]
