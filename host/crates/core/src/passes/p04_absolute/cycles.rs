@@ -4,8 +4,10 @@
 //! way, and retracts to the level where the series of cycles began (G98, but
 //! never below R; LinuxCNC's initial level, kept from one cycle code to the
 //! next until G80 or another move) or to R (G99).
-//! In G91, R is measured from the Z where the cycle starts and Z from R, and
-//! each of the L repeats steps X/Y again. Z, R, Q and P carry over from one
+//! In G91, R is measured from the series' initial level (for every cycle
+//! block of the series, as LinuxCNC and Fanuc measure it, not from where the
+//! tool is after a G99 retract) and Z from R, and each of the L repeats steps
+//! X/Y again. Z, R, Q and P carry over from one
 //! cycle to the next, so `X10` after a `G81` drills another hole alike.
 
 use super::Absolute;
@@ -104,10 +106,10 @@ impl Absolute {
             return Err(Diagnostic::error(statement.span, format!("{code} before any feed rate (F)"))
                 .with_help(format!("give the feed on the cycle, e.g. {code} ... F10")));
         }
-        let start = self.position[n];
+        let initial = *self.cycles.initial.get_or_insert(self.position[n]);
         let (r_plane, bottom) = match self.distance {
             Distance::Absolute => (r, z),
-            Distance::Incremental => (start + r, start + r + z),
+            Distance::Incremental => (initial + r, initial + r + z),
         };
         if bottom > r_plane {
             return Err(Diagnostic::error(statement.span, format!("{code}: the bottom {depth} is above the R plane"))
@@ -124,7 +126,6 @@ impl Absolute {
             );
         }
         // L0 (Fanuc's K0) keeps the cycle's words and drills nothing.
-        let initial = *self.cycles.initial.get_or_insert(start);
         if cycle.repeat > 0 {
             let statement = statement.clone();
             self.cycles.pending = Some(Holes { statement, left: cycle.repeat, initial, r_plane, bottom, q, p });
@@ -267,6 +268,23 @@ mod tests {
         // Before each hole: the start, the G99 retract, the climb to R5, its retract.
         assert_eq!(retracts, ["G00 Z10.000", "G00 Z2.000", "G00 Z5.000", "G00 Z5.000"]);
         assert_eq!(got.last().unwrap(), "G00 Z2.000");
+    }
+
+    #[test]
+    fn in_g91_r_is_measured_from_where_the_series_began() {
+        // As rs274 runs it: from Z0.25, every hole of the G99 series (a bare X1, the cycle written
+        // again, its L2 repeats) has R at 0.5 and its bottom at -0.5, though the tool waits at R
+        // between them; the G98 series from Z0.25 again, R0.5 on its second block, goes to 0.75 and
+        // cuts to -0.25.
+        let config = Config { dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program =
+            "F40\nG90 G0 X0 Y0 Z0.25\nG91 G99 G81 X1 Z-1.0 R0.25\nX1\nG81 X1 Z-1.0 R0.25\nG81 X1 Z-1.0 R0.25 L2\n\
+                       G90 G0 Z0.25\nG91 G98 G81 X1 Z-1 R0.25\nG81 X1 Z-1 R0.5\nG90 G80";
+        let got = run_with(program, &config, 4);
+        let levels = |prefix: &str| got.iter().filter(|l| l.starts_with(prefix)).cloned().collect::<Vec<_>>();
+        let bottoms = ["G01 Z-0.5000 F40.0000", "G01 Z-0.5000", "G01 Z-0.5000", "G01 Z-0.5000", "G01 Z-0.5000"];
+        assert_eq!(levels("G01 Z"), [bottoms.as_slice(), &["G01 Z-0.5000", "G01 Z-0.2500"]].concat());
+        assert_eq!(got[got.len() - 4..], ["G00 Z0.7500", "G00 X7.0000", "G01 Z-0.2500", "G00 Z0.7500"]);
     }
 
     #[test]
