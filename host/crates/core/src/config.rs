@@ -481,6 +481,10 @@ pub struct DialectConfig {
     /// `[machine] max_iterations` and `max_blocks`, here because the
     /// interpreter stage reads the dialect alone.
     pub limits: RunLimits,
+    /// `[dialect] subroutine_path`: the folders an `o<name> call` looks in
+    /// for `name.ngc` after the program's own, as LinuxCNC's
+    /// `[RS274NGC] SUBROUTINE_PATH` (relative ones from the config's folder).
+    pub subroutine_path: Vec<std::path::PathBuf>,
 }
 
 impl Default for DialectConfig {
@@ -491,7 +495,7 @@ impl Default for DialectConfig {
 
 impl From<Dialect> for DialectConfig {
     fn from(name: Dialect) -> DialectConfig {
-        DialectConfig { name, codes: CodeLists::default(), limits: RunLimits::default() }
+        DialectConfig { name, codes: CodeLists::default(), limits: RunLimits::default(), subroutine_path: Vec::new() }
     }
 }
 
@@ -512,6 +516,8 @@ mod dialect_config {
         pass_through: Vec<String>,
         #[serde(default)]
         ignore: Vec<String>,
+        #[serde(default)]
+        subroutine_path: Vec<std::path::PathBuf>,
     }
 
     fn name<E: de::Error>(name: &str) -> Result<Dialect, E> {
@@ -549,7 +555,8 @@ mod dialect_config {
             // A table alone says what to do with codes only the lenient dialect reads.
             let name = table.name.as_deref().map_or(Ok(Dialect::Lenient), name)?;
             let codes = CodeLists { pass_through: codes(&table.pass_through)?, ignore: codes(&table.ignore)? };
-            Ok(DialectConfig { name, codes, limits: super::RunLimits::default() })
+            let subroutine_path = table.subroutine_path;
+            Ok(DialectConfig { name, codes, limits: super::RunLimits::default(), subroutine_path })
         }
     }
 

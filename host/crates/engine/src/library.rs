@@ -6,6 +6,7 @@ use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 use ger_core::config::DialectConfig;
+use ger_core::macros::Wanted;
 use ger_core::passes::{self, Library};
 use ger_core::statement::Dialect;
 
@@ -18,7 +19,10 @@ pub(crate) fn library<'a>(source: &'a Source, dialect: &'a DialectConfig) -> Lib
     match dialect.name {
         Dialect::Lenient => library
             .with_files(move |number| program_file(&source.dir(), number, dialect))
-            .with_program_texts(move |number| program_text(&source.dir(), number)),
+            .with_program_texts(move |wanted| match wanted {
+                Wanted::Program(number) => program_text(&source.dir(), number),
+                Wanted::Subroutine(label) => subroutine_text(&source.dir(), &dialect.subroutine_path, label),
+            }),
         Dialect::Strict => library,
     }
 }
@@ -40,6 +44,23 @@ fn program_text(dir: &Path, number: u32) -> Option<(String, Vec<u8>)> {
     candidates(dir, number).into_iter().find_map(|path| {
         let text = std::fs::read(&path).ok()?;
         Some((path.file_name()?.to_string_lossy().into_owned(), text))
+    })
+}
+
+/// LinuxCNC's `o<name> call` of a subroutine the program does not define:
+/// `name.ngc` (the label in lower case, as LinuxCNC names the file) in the
+/// program's folder, then in each of `[dialect] subroutine_path`'s.
+fn subroutine_text(dir: &Path, path: &[PathBuf], label: &str) -> Option<(String, Vec<u8>)> {
+    // A label is a word of the program: it may not climb out of the folders.
+    if label.is_empty() || label.contains(['/', '\\']) || label.starts_with('.') {
+        return None;
+    }
+    let file = format!("{label}.ngc");
+    std::iter::once(dir).chain(path.iter().map(PathBuf::as_path)).find_map(|folder| {
+        let path = folder.join(&file);
+        // A regular file only: a FIFO or device named so would never end.
+        let text = path.is_file().then(|| std::fs::read(&path).ok()).flatten()?;
+        Some((path.display().to_string(), text))
     })
 }
 

@@ -79,11 +79,17 @@ impl Settings {
         let mut config = match (&path, &name) {
             (Some(path), Some(name)) => {
                 let text = read(path, name)?;
-                Config::from_toml(&text).map_err(|diagnostic| ConfigError::Invalid {
+                let mut config = Config::from_toml(&text).map_err(|diagnostic| ConfigError::Invalid {
                     name: name.clone(),
                     text,
                     diagnostic,
-                })?
+                })?;
+                // Its folders are from the config's own, wherever ger runs.
+                let folder = path.parent().unwrap_or(Path::new(""));
+                for dir in &mut config.dialect.subroutine_path {
+                    *dir = folder.join(&*dir);
+                }
+                config
             }
             _ => Config::default(),
         };

@@ -178,3 +178,51 @@ fn the_machine_is_the_config_beside_the_program_with_the_settings_over_it() {
     assert!(shown.contains("ger.toml:1:"), "{shown}");
     assert!(shown.contains("bad configuration"), "{shown}");
 }
+
+#[test]
+fn a_subroutine_the_program_does_not_define_is_read_from_its_file() {
+    // LinuxCNC's SUBROUTINE_PATH: `o<frame> call` finds frame.ngc beside the program, then in the
+    // folders of [dialect] subroutine_path (from the config's folder). Lines outside the sub in
+    // its file are not run; its moves carry the line of the call.
+    let dir = tempfile::tempdir().unwrap();
+    let (programs, library) = (dir.path().join("jobs"), dir.path().join("lib"));
+    std::fs::create_dir_all(&programs).unwrap();
+    std::fs::create_dir_all(&library).unwrap();
+    std::fs::write(programs.join("ger.toml"), "units = \"mm\"\n[dialect]\nsubroutine_path = [\"../lib\"]\n").unwrap();
+    std::fs::write(library.join("frame.ngc"), "G00 X99\no<frame> sub\nG01 X#1 Y#2 F100\no<frame> endsub\nM02\n")
+        .unwrap();
+    std::fs::write(programs.join("hole.ngc"), "o<hole> sub\nG01 Z#1 F50\no<hole> endsub\n").unwrap();
+    let text = "G21 G90\no<frame> call [10] [20]\no<hole> call [-3]\no<frame> call [1] [2]\nM30\n";
+    let source = Source::text("part.ngc", &programs, text);
+    let config = Settings::default().load(&source, Purpose::Translate).unwrap();
+    assert_eq!(config.dialect.subroutine_path, [programs.join("../lib")]);
+    let mut program = Program::new(source, config);
+    let lines: Vec<String> = program
+        .events(LAST_STAGE)
+        .map(|event| match event {
+            Event::Statement(statement) => {
+                format!("{}: {}", statement.span.line, ger_core::emit::Emitter::new(3, false).line(&statement))
+            }
+            Event::Diagnostic(diagnostic) => diagnostic.to_string(),
+        })
+        .collect();
+    assert_eq!(
+        lines,
+        ["2: G01 X10.000 Y20.000 F100.000", "3: G01 Z-3.000 F50.000", "4: G01 X1.000 Y2.000 F100.000", "5: M30"]
+    );
+
+    // Not found anywhere: the error says where it looked.
+    let source = Source::text("part.ngc", &programs, "o<nowhere> call\nM30\n");
+    let config = Settings::default().load(&source, Purpose::Translate).unwrap();
+    let mut program = Program::new(source, config);
+    let errors: Vec<String> = program
+        .events(LAST_STAGE)
+        .filter_map(|event| match event {
+            Event::Diagnostic(d) if d.is_error() => Some(format!("{d} {}", d.help.clone().unwrap_or_default())),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].contains("o<nowhere> is called but never defined"), "{errors:?}");
+    assert!(errors[0].contains("nowhere.ngc beside it or in a folder of [dialect] subroutine_path"), "{errors:?}");
+}

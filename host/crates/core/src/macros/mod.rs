@@ -458,7 +458,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// A program in a file of its own, to its M99: a block as one after
     /// M30 is, and the file's name. Its first line of code must be its O number.
     fn program_from_file(&mut self, number: u64, label: &str) -> Option<(Rc<Sub>, String)> {
-        let (name, text) = (self.files.as_mut()?)(number as u32)?;
+        let (name, text) = (self.files.as_mut()?)(Wanted::Program(number as u32))?;
         let mut lines = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).pieces();
         let mut partial = Line::default();
         let head = loop {
@@ -1120,9 +1120,16 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     }
 
     fn call(&mut self, control: &Control) {
-        if !self.subs.contains_key(&control.label) && !self.look_ahead_for(&control.label) {
+        if !self.subs.contains_key(&control.label)
+            && !self.look_ahead_for(&control.label)
+            && !self.subroutine_from_file(&control.label)
+        {
             let message = format!("{} is called but never defined", control.name());
-            let help = "define the subroutine in the program: o100 sub ... o100 endsub";
+            let file = format!("{}.ngc", control.label);
+            let help = format!(
+                "define the subroutine in the program (o100 sub ... o100 endsub), or in {file} beside it or in a \
+                 folder of [dialect] subroutine_path"
+            );
             return self.error(Diagnostic::error(control.span, message).with_help(help));
         }
         let sub = self.subs[&control.label].clone();
@@ -1140,8 +1147,11 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 Err(diagnostic) => return self.error(diagnostic),
             }
         }
-        let origin = Arc::new(Origin { what: control.name(), call: control.span, parent: self.origin() });
-        let kind = FrameKind::Call { origin, locals: Some(Box::new(locals.clone())), remaining: 1, file: false };
+        let file = self.from_files.get(&control.label);
+        let what = file.map_or(control.name(), |name| format!("{} (from {name})", control.name()));
+        let origin = Arc::new(Origin { what, call: control.span, parent: self.origin() });
+        let (locals_kept, file) = (Some(Box::new(locals.clone())), file.is_some());
+        let kind = FrameKind::Call { origin, locals: locals_kept, remaining: 1, file };
         self.store.levels.push(locals);
         self.frames.push(Frame { body: sub.body.clone(), next: 0, kind });
     }
@@ -1390,6 +1400,46 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         false
     }
 
+    /// A LinuxCNC subroutine kept in a file of its own (`name.ngc`, found
+    /// as `[dialect] subroutine_path` says): its `o<name> sub` block is
+    /// read, the lines outside it are not, as LinuxCNC reads such a file.
+    fn subroutine_from_file(&mut self, label: &str) -> bool {
+        let Some((name, text)) = self.files.as_mut().and_then(|find| find(Wanted::Subroutine(label))) else {
+            return false;
+        };
+        let mut lines = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).pieces();
+        let mut partial = Line::default();
+        let head = loop {
+            let Some(line) = whole_line(&mut lines, &mut partial) else { return false };
+            if line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label) {
+                break line;
+            }
+        };
+        // Read as the program's own definition is, in a block stack of its own.
+        let around = std::mem::take(&mut self.open);
+        let frames = self.frames.len();
+        self.read(head);
+        while !self.open.is_empty() {
+            let Some(line) = whole_line(&mut lines, &mut partial) else { break };
+            self.read(line);
+        }
+        for open in std::mem::replace(&mut self.open, around) {
+            let message = format!("{} is never closed (in {name})", open.head.describe());
+            self.error(Diagnostic::error(open.head.span, message));
+        }
+        let defined = (self.frames.len() > frames).then(|| self.frames.last()).flatten().and_then(|frame| match &frame
+            .body[..]
+        {
+            [Node::Sub(sub)] if matches!(frame.kind, FrameKind::Branch) => Some(sub.clone()),
+            _ => None,
+        });
+        let Some(sub) = defined else { return false };
+        self.frames.pop();
+        self.from_files.insert(label.to_string(), name);
+        self.subs.insert(sub.head.label.clone(), sub);
+        true
+    }
+
     /// The end of the program: blocks never closed are errors at their head.
     fn finish(&mut self) {
         for open in std::mem::take(&mut self.open) {
@@ -1399,8 +1449,17 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     }
 }
 
-/// Finds program `n` in a file of its own: the file's name and its text.
-pub type FindProgram<'a> = Box<dyn FnMut(u32) -> Option<(String, Vec<u8>)> + 'a>;
+/// What a call looks for in a file of its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wanted<'n> {
+    /// A Fanuc program by number (`M98 P1002`, `G65 P1002`).
+    Program(u32),
+    /// A LinuxCNC subroutine by its label, in lower case (`o<frame_rect> call`: `frame_rect`).
+    Subroutine(&'n str),
+}
+
+/// Finds what a call wants in a file of its own: the file's name and its text.
+pub type FindProgram<'a> = Box<dyn FnMut(Wanted<'_>) -> Option<(String, Vec<u8>)> + 'a>;
 
 /// Fanuc's alarm parameter: setting it stops the program with a message.
 const ALARM: u32 = 3000;

@@ -126,8 +126,8 @@ pub fn parse<'a, R: BufRead + 'a>(program: R, dialect: &DialectConfig) -> impl I
     parse_finding(program, dialect, None, None)
 }
 
-/// As [`parse`], with `files` finding the programs G65 and M98 call that
-/// are kept in files of their own.
+/// As [`parse`], with `files` finding the programs G65, M98 and
+/// `o<name> call` call that are kept in files of their own.
 fn parse_finding<'a, R: BufRead + 'a>(
     program: R,
     dialect: &DialectConfig,

@@ -73,9 +73,13 @@ impl<'a> Library<'a> {
         self
     }
 
-    /// `texts` finds the text of a program in a file of its own, which the
-    /// interpreter stage runs at G65 and M98 with the parameters of the moment.
-    pub fn with_program_texts(mut self, texts: impl FnMut(u32) -> Option<(String, Vec<u8>)> + 'a) -> Library<'a> {
+    /// `texts` finds the text of a program or subroutine in a file of its
+    /// own, which the interpreter stage runs at G65, M98 and `o<name> call`
+    /// with the parameters of the moment.
+    pub fn with_program_texts(
+        mut self,
+        texts: impl FnMut(crate::macros::Wanted<'_>) -> Option<(String, Vec<u8>)> + 'a,
+    ) -> Library<'a> {
         self.texts = Some(Box::new(texts));
         self
     }
