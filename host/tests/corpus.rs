@@ -1,8 +1,10 @@
 //! The real-world corpus (`../shared/corpus` beside the repository, described
 //! by its `INDEX.tsv`): every G-code file of a 3-axis mill is run through
 //! `ger run --lenient`, and must either translate or be refused with
-//! diagnostics, never panic and never take more than 10 s of CPU time (a
-//! wall-clock limit would measure the machine's load). The results, by
+//! diagnostics, never panic and never take more than a minute of CPU time
+//! (a guard against hangs, not a speed target: the tests' debug build is
+//! about ten times slower than release, where the largest file takes 1 s;
+//! a wall-clock limit would measure the machine's load). The results, by
 //! file and by source, are kept in `tests/corpus/RESULTS.md`; this test fails
 //! when they change (`UPDATE_EXPECT=1 cargo test --test corpus` rewrites the
 //! table, to review with `git diff`) and when fewer than 90% of the mill files
@@ -17,7 +19,9 @@ use std::time::Duration;
 
 use support::corpus::{self, Class};
 
-const CPU_LIMIT: Duration = Duration::from_secs(10);
+/// `la_peinture.gc` (180,585 lines) takes 1.0 s of CPU in release, 8-12 s
+/// in the debug build on a loaded 2-core machine.
+const CPU_LIMIT: Duration = Duration::from_secs(60);
 /// Only for a run that hangs without using the CPU.
 const WALL_LIMIT: Duration = Duration::from_secs(120);
 
