@@ -85,7 +85,41 @@ pub struct CallState {
     pub line: u32,
 }
 
+/// Where the program has got to, in its own units, for the parameters that
+/// read it (LinuxCNC's #5420-#5422, Fanuc's #5001-#5003 and #4001-#4120).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Place {
+    /// The tool in program coordinates (after G52/G54..G59/G92).
+    pub position: [f64; 3],
+    /// The tool in machine coordinates.
+    pub machine: [f64; 3],
+    /// 1 for G54 to 9 for G59.3, and on for the extended ones.
+    pub system: u8,
+    pub units: Units,
+    pub distance: Distance,
+    pub plane: Plane,
+    pub feed: Option<f64>,
+    pub spindle: Spindle,
+    pub tool: u32,
+}
+
 impl Snapshot {
+    /// The place as the program's parameters read it.
+    pub fn place(&self, machine_units: Units) -> Place {
+        let to_program = machine_units.factor_to(self.program_units);
+        Place {
+            position: self.program_position(machine_units),
+            machine: self.position.map(|v| v * to_program),
+            system: self.system,
+            units: self.program_units,
+            distance: self.distance,
+            plane: self.plane,
+            feed: self.feed.map(|f| f * to_program),
+            spindle: self.spindle,
+            tool: self.tool,
+        }
+    }
+
     /// The tool's position in program coordinates (after G52/G54..G59/G92)
     /// and units: what LinuxCNC's #5420-#5422 read.
     pub fn program_position(&self, machine_units: Units) -> [f64; 3] {

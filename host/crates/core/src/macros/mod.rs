@@ -60,15 +60,76 @@ pub struct Store {
     position: Option<Position>,
 }
 
-/// Where the program has got to, as the passes have it: the tool's
-/// position in program coordinates and units, and the work offset in force.
-pub type Position = Box<dyn Fn() -> ([f64; 3], u8)>;
+/// Where the program has got to, as the passes have it.
+pub type Position = Box<dyn Fn() -> crate::state::Place>;
 
 /// LinuxCNC's coordinate system in force: 1 for G54 to 9 for G59.3.
 const COORDINATE_SYSTEM: u32 = 5220;
 
 /// LinuxCNC's current position, X, Y and Z: #5420 to #5422.
 const POSITION: u32 = 5420;
+
+/// Fanuc's modal information (#4001-#4130), read while the program has not
+/// set the parameter itself (LinuxCNC has no such parameters: there they
+/// are the program's own).
+const FANUC_MODAL: std::ops::RangeInclusive<u32> = 4001..=4130;
+
+/// The value of a parameter that reads where the program has got to, if
+/// `number` is one: LinuxCNC's #5220 and #5420-#5422, Fanuc's block end
+/// (#5001-#5003) and current positions (#5021-#5023 machine, #5041-#5043
+/// work coordinates) and the modal information ger keeps (#4002 plane,
+/// #4003 distance mode, #4006 units, #4014 work offset, #4109 F, #4119 S,
+/// #4120 T). Another of Fanuc's #4001-#4130 is an error: it is not kept.
+fn place_parameter(place: &crate::state::Place, number: u32, at: Span) -> Result<Option<f64>, Diagnostic> {
+    use crate::state::Spindle;
+    use crate::statement::{Distance, Plane, Units};
+    let axis = |first: u32| place.position[(number - first) as usize];
+    let value = match number {
+        POSITION..=5422 => axis(POSITION),
+        5001..=5003 => axis(5001),
+        5041..=5043 => axis(5041),
+        5021..=5023 => place.machine[(number - 5021) as usize],
+        COORDINATE_SYSTEM => f64::from(place.system),
+        4002 => match place.plane {
+            Plane::XY => 17.0,
+            Plane::ZX => 18.0,
+            Plane::YZ => 19.0,
+        },
+        4003 => {
+            if place.distance == Distance::Absolute {
+                90.0
+            } else {
+                91.0
+            }
+        }
+        4006 => {
+            if place.units == Units::Inch {
+                20.0
+            } else {
+                21.0
+            }
+        }
+        4014 => match place.system {
+            n @ 1..=6 => 53.0 + f64::from(n),
+            n @ 7..=9 => 59.0 + f64::from(n - 6) / 10.0,
+            _ => 54.1,
+        },
+        4109 => place.feed.unwrap_or(0.0),
+        4119 => match place.spindle {
+            Spindle::Clockwise(s) | Spindle::CounterClockwise(s) => s.unwrap_or(0.0),
+            Spindle::Off => 0.0,
+        },
+        4120 => f64::from(place.tool),
+        n if FANUC_MODAL.contains(&n) => {
+            let message = format!("#{n} is Fanuc's modal information, which ger does not keep for it");
+            let help = "ger reads #4002 (plane), #4003 (G90/G91), #4006 (G20/G21), #4014 (work offset), #4109 (F), \
+                        #4119 (S) and #4120 (T); set the parameter before reading it otherwise";
+            return Err(Diagnostic::error(at, message).with_help(help));
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(value))
+}
 
 /// The same, by LinuxCNC's predefined names.
 const POSITION_NAMES: [&str; 3] = ["_x", "_y", "_z"];
@@ -145,10 +206,12 @@ impl Parameters for Store {
         if number == expr::VACANT {
             return Ok(0.0);
         }
-        match (&self.position, number) {
-            (Some(position), POSITION..=5422) => return Ok(position().0[(number - POSITION) as usize]),
-            (Some(position), COORDINATE_SYSTEM) => return Ok(f64::from(position().1)),
-            _ => {}
+        let reads_place = matches!(number, 4001..=4130 | 5001..=5003 | 5021..=5023 | 5041..=5043 | 5220 | 5420..=5422);
+        let set_by_program = self.numbered.contains_key(&number);
+        if let (Some(position), true, false) = (&self.position, reads_place, set_by_program) {
+            if let Some(value) = place_parameter(&position(), number, at)? {
+                return Ok(value);
+            }
         }
         system_parameter(number, at)?;
         if number as usize <= LOCALS {
@@ -160,7 +223,7 @@ impl Parameters for Store {
 
     fn named(&self, name: &str) -> Option<f64> {
         if let (Some(position), Some(axis)) = (&self.position, POSITION_NAMES.iter().position(|known| *known == name)) {
-            return Some(position().0[axis]);
+            return Some(position().position[axis]);
         }
         if name.starts_with('_') {
             self.named.get(name).copied()
@@ -2084,6 +2147,24 @@ mod tests {
             flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"),
             ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]
         );
+    }
+
+    #[test]
+    fn fanuc_system_variables_read_the_modes_and_positions_the_passes_keep() {
+        // Worked by hand: G90 saved in #1 and restored with G#1; #5001-#5003 are where the tool is
+        // (6, 7, 2) after the incremental X1; #4120 the tool, #4119 the speed, #4006 the units
+        // (21), #4002 the plane (18 after G18).
+        same_as_twin(
+            "G21 G90 F100\nG00 X5 Y7 Z2\n#1 = #4003\n#2 = #4006\nG91 G01 X1\nG#1 X[#5001 + 1] Y#5002 Z[#5003 * 2]\n\
+             M06 T3\nM03 S1200\nG01 X[#4120] Y[#4119 / 100] Z#2 F[#4109 / 2]\nG18\nG01 X[#4002]\nM30",
+            "G21 G90 F100\nG00 X5 Y7 Z2\nG91 G01 X1\nG90 X7 Y7 Z4\nM06 T3\nM03 S1200\nG01 X3 Y12 Z21 F50\nG18\nG01 X18\nM30",
+        );
+        // One ger does not keep is an error; one the program set is its own (a LinuxCNC parameter).
+        assert_eq!(
+            flat("#1 = #4001"),
+            ["2:6: error: #4001 is Fanuc's modal information, which ger does not keep for it"]
+        );
+        assert_eq!(flat("#4001 = 7\nG01 X#4001 F1"), ["G01 X7.000 F1.000"]);
     }
 
     #[test]

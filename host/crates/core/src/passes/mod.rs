@@ -174,10 +174,7 @@ pub fn translate<'a, R: BufRead + 'a>(
     let mut library = library;
     let position: crate::macros::Position = {
         let (probe, units) = (probe.clone(), config.units);
-        Box::new(move || {
-            let snapshot = probe.borrow();
-            (snapshot.program_position(units), snapshot.system)
-        })
+        Box::new(move || probe.borrow().place(units))
     };
     let parsed = parse_finding(program, &config.dialect, library.take_program_texts(), Some(position));
     let stream = tapped(Box::new(p00_subprograms::Subprograms::new(parsed, library, runtime)), 0);
