@@ -759,6 +759,31 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         }
     }
 
+    /// A subroutine or program defined: a Fanuc program's first definition is
+    /// the one calls run, as in pass 00 (LinuxCNC runs the first and reads
+    /// past the second); a LinuxCNC subroutine's last.
+    fn define(&mut self, sub: Rc<Sub>) {
+        if sub.head.keyword == Keyword::Program && self.subs.contains_key(&sub.head.label) {
+            let message = format!("{} is defined again: calls run its first definition", sub.head.label);
+            let help = "give each subprogram its own number, or remove the one that never runs";
+            self.diagnostic(Diagnostic::warning(sub.head.span, message).with_help(help));
+        } else {
+            self.subs.insert(sub.head.label.clone(), sub);
+        }
+    }
+
+    /// Whether program `number` (`label`) is known: in the program, read
+    /// ahead for, or in a file of its own beside it.
+    fn find_program(&mut self, number: u64, label: &str) -> bool {
+        if !self.subs.contains_key(label) && !self.look_ahead_for(label) {
+            if let Some((sub, name)) = self.program_from_file(number, label) {
+                self.from_files.insert(label.to_string(), name);
+                self.subs.insert(label.to_string(), sub);
+            }
+        }
+        self.subs.contains_key(label)
+    }
+
     /// The program a `M98` or `G65` line calls, found (read ahead for if it
     /// follows), with the locals a G65 gives it. `None` for an M98 whose
     /// program is not in the file: pass 00 looks for it beside the program.
@@ -774,11 +799,14 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 Diagnostic::error(call.at, message).with_help("G65 P1000 A1 B2 calls O1000 with #1 = 1, #2 = 2")
             );
         };
-        let label = format!("O{}", number as u64);
-        if !self.subs.contains_key(&label) && !self.look_ahead_for(&label) {
-            if let Some((sub, name)) = self.program_from_file(number as u64, &label) {
-                self.from_files.insert(label.clone(), name);
-                self.subs.insert(label.clone(), sub);
+        let mut call = call;
+        let mut label = format!("O{}", number as u64);
+        if !self.find_program(number as u64, &label) && !call.macro_call && number >= 10_000.0 && call.repeat == 1.0 {
+            // Fanuc packs the repeats into P when L is not given: P30010 runs O0010 three times.
+            let (times, packed) = ((number / 10_000.0).floor(), number % 10_000.0);
+            let packed_label = format!("O{}", packed as u64);
+            if self.find_program(packed as u64, &packed_label) {
+                (label, call.repeat) = (packed_label, times);
             }
         }
         if !self.subs.contains_key(&label) {
@@ -986,20 +1014,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         }
         match node {
             Node::Line(line) => self.run_line(line),
-            // A Fanuc program's first definition is the one calls run, as in pass 00.
-            Node::Sub(sub) if sub.head.keyword == Keyword::Program => {
-                if self.subs.contains_key(&sub.head.label) {
-                    // LinuxCNC runs the first and reads past the second.
-                    let message = format!("{} is defined again: calls run its first definition", sub.head.label);
-                    let help = "give each subprogram its own number, or remove the one that never runs";
-                    self.diagnostic(Diagnostic::warning(sub.head.span, message).with_help(help));
-                } else {
-                    self.subs.insert(sub.head.label.clone(), sub.clone());
-                }
-            }
-            Node::Sub(sub) => {
-                self.subs.insert(sub.head.label.clone(), sub.clone());
-            }
+            Node::Sub(sub) => self.define(sub.clone()),
             Node::If(branches) => {
                 for (head, body) in branches {
                     match head.args.first().map(|condition| self.evaluate(condition, head.span)) {
@@ -1437,8 +1452,10 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// of that part meanwhile). True if it was found.
     fn look_ahead_for(&mut self, label: &str) -> bool {
         while let Some(line) = self.next_line() {
-            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub && c.label == label)
-                || self.fanuc_block(&line).is_some_and(|c| c.keyword == Keyword::Program && c.label == label);
+            // Every definition passed on the way is taken, so that looking for
+            // one program does not hide another (M98 P30010: O30010, or O10).
+            let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub)
+                || self.fanuc_block(&line).is_some_and(|c| c.keyword == Keyword::Program);
             if !defines {
                 self.ahead.push_back(line);
                 continue;
@@ -1456,9 +1473,11 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             });
             if let Some(sub) = defined {
                 self.frames.pop();
-                self.subs.insert(sub.head.label.clone(), sub);
+                self.define(sub);
             }
-            return self.subs.contains_key(label);
+            if self.subs.contains_key(label) {
+                return true;
+            }
         }
         false
     }
@@ -2146,6 +2165,19 @@ mod tests {
         assert_eq!(
             flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"),
             ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]
+        );
+    }
+
+    #[test]
+    fn fanuc_m98_packs_its_repeats_into_p_without_l() {
+        // P30010: O0010 three times, when there is no O30010; with O30010 in the program it is that.
+        same_as_twin(
+            "G21 G90 F100\nM98 P30010\nM30\nO10\nG91 G01 X1\nG90\nM99",
+            "G21 G90 F100\nG91 G01 X1\nG90\nG91 X1\nG90\nG91 X1\nG90\nM30",
+        );
+        same_as_twin(
+            "G21 G90 F100\nM98 P30010\nM30\nO10\nG01 X1\nM99\nO30010\nG01 Y2\nM99",
+            "G21 G90 F100\nG01 Y2\nM30",
         );
     }
 

@@ -368,7 +368,20 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                     self.stack.clear();
                     return Some(error(&statement, diagnostic));
                 }
-                let Some((mut body, file)) = self.library.find(program) else {
+                // Fanuc packs the repeats into P when L is not given: P30010 runs O0010 three
+                // times (if there is no O30010).
+                let lenient = self.runtime.config.dialect.name == Dialect::Lenient;
+                let (program, repeat, found) = match self.library.find(program) {
+                    None if lenient && program >= 10_000 && repeat == 1 => {
+                        let (times, packed) = (program / 10_000, program % 10_000);
+                        match self.library.find(packed) {
+                            Some(found) => (packed, times, Some(found)),
+                            None => (program, repeat, None),
+                        }
+                    }
+                    found => (program, repeat, found),
+                };
+                let Some((mut body, file)) = found else {
                     let mut help = format!("define it after M30: O{program} ... M99");
                     if self.runtime.config.dialect.name == Dialect::Lenient {
                         help.push_str(&format!(", or keep it in a file of its own beside the program (O{program}.nc)"));
