@@ -341,7 +341,8 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         // The splines take every word a move might, so that a wrong one is
         // refused by name rather than made a move of its own.
         ('G', 50) => Some("XYZIJKRPQF"),
-        ('G', 51) => Some(ARC_WORDS),
+        // Q (and R) too for Fanuc's G05.1 Q1 R5, a servo mode.
+        ('G', 51) => Some("XYZIJKRFQ"),
         ('G', 52) => Some("XYZIJKRPQLF"),
         ('G', 53) => Some(""),
         // M19's angle, timeout and direction go with it when it is dropped.
@@ -663,6 +664,12 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
             Kind::Cycle(Box::new(cycle(number, span, words)?))
         }
+        // Fanuc's high-speed machining (G05 P10000, G05 P0) and AI contour
+        // control or smoothing (G05.1 Q1 R5, G05.1 Q0) share their numbers
+        // with LinuxCNC's splines; with none of a curve's words they set how
+        // the servos follow the path, not the path.
+        ('G', 50) if words.get('P').is_some() && !words.has_any("XYZIJKRQF") => Kind::NoEffect("G05"),
+        ('G', 51) if words.get('Q').is_some() && !words.has_any("XYZIJKF") => Kind::NoEffect("G05.1"),
         ('G', 50) => Kind::Spline(Box::new(spline(Some(SplineCode::Cubic), span, words)?)),
         ('G', 51) => Kind::Spline(Box::new(spline(Some(SplineCode::Quadratic), span, words)?)),
         ('G', 52) => Kind::Spline(Box::new(spline(Some(SplineCode::Nurbs), span, words)?)),
@@ -1108,6 +1115,21 @@ mod tests {
         assert_eq!(parsed_lenient("G64 P0.01 R1"), ["1:1 NoEffect(\"G64\")"]);
         // G61 takes no R: LinuxCNC's reject g64-r-on-g61.
         assert!(parsed_lenient("G61 R0.5")[1].starts_with("1:5 Motion(Motion { mode: None"));
+    }
+
+    #[test]
+    fn fanucs_g05_and_g05_1_servo_modes_are_not_splines() {
+        // G05 P10000 / G05 P0 (high-speed machining) and G05.1 Q1 R5 / Q0
+        // (AI contour control) with no word of a curve: modes of the servos.
+        for program in ["G05 P10000", "G05 P0", "G05.1 Q1", "G05.1 Q1 R5", "G5.1 Q0"] {
+            let got = parsed_lenient(program);
+            assert_eq!(got.len(), 1, "{program}: {got:?}");
+            assert!(got[0].starts_with("1:1 NoEffect(\"G05"), "{program}: {got:?}");
+        }
+        // With a curve's words they are still LinuxCNC's splines, and their errors.
+        assert!(parsed_lenient("G5.1 X1 Y1 I1 J0")[0].starts_with("1:1 Spline("));
+        assert!(parsed_lenient("G5.1 X1 Y1 Q1")[0].ends_with("Q is not allowed with G5.1"));
+        assert!(parsed_lenient("G05 P1 X1 Y1")[0].contains("error"));
     }
 
     #[test]
