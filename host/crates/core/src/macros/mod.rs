@@ -295,6 +295,27 @@ impl Line {
         })
     }
 
+    /// The line without the M99 (or M30, M2) that ends a program read as a
+    /// block, and M99's P, if anything else is on it: a Fanuc runs
+    /// `G90 M99` as G90, then the return.
+    fn before_its_end(&self) -> Option<Line> {
+        let ends = self.words().any(|(letter, value, _)| letter == 'M' && [99.0, 30.0, 2.0].contains(&value));
+        let kept = |item: &&Piece| match item {
+            Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Word { letter, value }, .. })) => {
+                let end = *letter == 'M' && [99.0, 30.0, 2.0].contains(value);
+                !(end || *letter == 'P' && ends)
+            }
+            _ => true,
+        };
+        let items: Vec<Piece> = self.items.iter().filter(kept).cloned().collect();
+        let something = items.iter().any(|item| match item {
+            Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Word { letter, .. }, .. })) => *letter != 'N',
+            Piece::Macro(..) => true,
+            _ => false,
+        });
+        something.then(|| Line { items, end: self.end.clone() })
+    }
+
     /// Whether the line has code: anything but comments and diagnostics.
     fn is_code(&self) -> bool {
         self.items.iter().any(|item| match item {
@@ -423,6 +444,10 @@ pub struct Interpreter<'a, L> {
     /// The line and call level of the last error since a GOTO jumped back:
     /// a GOTO does not jump back over it again.
     last_error: Option<(u32, usize)>,
+    /// The lines of the local subprograms `M97` runs, first to last.
+    local_lines: Vec<std::ops::RangeInclusive<u32>>,
+    /// The main program has run its M30 or M2: what follows runs only where called.
+    ended: bool,
 }
 
 #[derive(Clone, Copy)]
@@ -468,6 +493,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             files: None,
             from_files: HashMap::new(),
             first_code_line: None,
+            local_lines: Vec::new(),
+            ended: false,
         }
     }
 
@@ -543,12 +570,20 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 _ => return None,
             }
         };
-        // Its lines are read into a block of their own, as the program's are.
+        let sub = self.program_body(head, std::iter::from_fn(|| whole_line(&mut lines, &mut partial)), &name)?;
+        Some((sub, name))
+    }
+
+    /// The lines of a program that is not the running one, read into a
+    /// block of their own as the program's are, up to its M99 (or M30, M2).
+    fn program_body(&mut self, head: Control, lines: impl Iterator<Item = Line>, name: &str) -> Option<Rc<Sub>> {
         let around = std::mem::take(&mut self.open);
         self.open.push(Open { head: head.clone(), nodes: Vec::new(), branches: Vec::new() });
-        while let Some(line) = whole_line(&mut lines, &mut partial) {
-            let ends = line.words().any(|(letter, value, _)| letter == 'M' && [99.0, 30.0, 2.0].contains(&value));
-            if ends && self.open.len() == 1 {
+        for line in lines {
+            if ends_a_program(&line) && self.open.len() == 1 {
+                if let Some(before) = line.before_its_end() {
+                    self.add(Node::Line(before));
+                }
                 break;
             }
             self.read(line);
@@ -560,7 +595,49 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             self.error(Diagnostic::error(open.span, message));
         }
         let body: Body = inner.into_iter().next()?.nodes.into();
-        Some((Rc::new(Sub { head, body }), name))
+        Some(Rc::new(Sub { head, body }))
+    }
+
+    /// Haas's `M97 Pn`: the lines of this program from the one labelled
+    /// `Nn` (forward from the call first, as a GOTO looks) to the next M99,
+    /// a local subprogram, usually kept after M30. The lines read on to
+    /// find it wait for their turn, as for a subroutine read ahead for.
+    fn local_program(&mut self, number: u64, at: Span) -> Result<String, Diagnostic> {
+        let label = format!("N{number}");
+        let not_found = || {
+            Diagnostic::error(at, format!("M97 P{number}: the program has no line N{number}"))
+                .with_help("M97 Pn runs the lines from Nn to the next M99 (Haas's local subprogram)")
+        };
+        let Some(history) = self.history.clone() else {
+            return Err(Diagnostic::error(at, "M97: the program's lines are not kept to run again"));
+        };
+        let forward =
+            |interpreter: &Self| interpreter.label_lines(number).into_iter().find(|found| found.line > at.line);
+        while forward(self).is_none() {
+            let Some(line) = self.next_line() else { break };
+            self.ahead.push_back(line);
+        }
+        let start = forward(self).or_else(|| self.label_lines(number).first().copied()).ok_or_else(not_found)?.line;
+        // Its last line is the first M99 from there: read on to it too.
+        let read = history.borrow().from_line(start);
+        let mut pieces = Lexer::in_dialect(std::io::Cursor::new(read), Dialect::Lenient).starting_at(start).pieces();
+        let mut partial = Line::default();
+        let mut end = std::iter::from_fn(|| whole_line(&mut pieces, &mut partial)).find(ends_a_program);
+        while end.is_none() {
+            let Some(line) = self.next_line() else { break };
+            end = ends_a_program(&line).then(|| line.clone());
+            self.ahead.push_back(line);
+        }
+        let last = end.map_or(u32::MAX, |line| line.number());
+        self.local_lines.push(start..=last);
+        let text = history.borrow().from_line(start);
+        let mut pieces = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).starting_at(start).pieces();
+        let mut partial = Line::default();
+        let head = Control { label: label.clone(), keyword: Keyword::Program, args: Vec::new(), span: at, fanuc: true };
+        let lines = std::iter::from_fn(|| whole_line(&mut pieces, &mut partial));
+        let sub = self.program_body(head, lines, &label).ok_or_else(not_found)?;
+        self.subs.insert(label.clone(), sub);
+        Ok(label)
     }
 
     /// The block a line opens or closes as a Fanuc program: `O1000` (but
@@ -715,6 +792,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         if failed.is_none() && self.in_fanuc_program() {
             failed = ends_program(&tokens);
         }
+        if failed.is_none() && self.call_depth() == 0 && ends_program(&tokens).is_some() {
+            self.ended = true;
+        }
         let jump = jump.filter(|_| failed.is_none());
         let mut call = None;
         if let Some(found) = fanuc_call(&tokens).filter(|_| failed.is_none() && self.fanuc_programs) {
@@ -730,7 +810,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 let kept = |token: &Token| match (&call, &token.kind) {
                     (Some(Ready { locals: Some(_), .. }), TokenKind::Word { .. }) => false,
                     (Some(_), TokenKind::Word { letter, value }) => {
-                        !matches!((letter, value), ('M', 98.0) | ('P' | 'L', _))
+                        !matches!((letter, value), ('M', 97.0 | 98.0) | ('P' | 'L', _))
                     }
                     _ => true,
                 };
@@ -788,9 +868,18 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// follows), with the locals a G65 gives it. `None` for an M98 whose
     /// program is not in the file: pass 00 looks for it beside the program.
     fn prepare_call(&mut self, call: FanucCall) -> Result<Option<Ready>, Diagnostic> {
-        let code = if call.macro_call { "G65" } else { "M98" };
+        let code = match (call.macro_call, call.local) {
+            (true, _) => "G65",
+            (false, true) => "M97",
+            (false, false) => "M98",
+        };
         let number = call.program.filter(|p| *p >= 0.0 && p.fract() == 0.0);
         let Some(number) = number else {
+            if call.local {
+                let message = "M97 needs P, the N number of the line its lines start at (a whole number)";
+                let help = "M97 P100 runs the lines from N100 to the next M99, then goes on after the M97";
+                return Err(Diagnostic::error(call.at, message).with_help(help));
+            }
             if !call.macro_call {
                 return Ok(None);
             }
@@ -801,7 +890,13 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         };
         let mut call = call;
         let mut label = format!("O{}", number as u64);
-        if !self.find_program(number as u64, &label) && !call.macro_call && number >= 10_000.0 && call.repeat == 1.0 {
+        if call.local {
+            label = self.local_program(number as u64, call.at)?;
+        } else if !self.find_program(number as u64, &label)
+            && !call.macro_call
+            && number >= 10_000.0
+            && call.repeat == 1.0
+        {
             // Fanuc packs the repeats into P when L is not given: P30010 runs O0010 three times.
             let (times, packed) = ((number / 10_000.0).floor(), number % 10_000.0);
             let packed_label = format!("O{}", packed as u64);
@@ -873,7 +968,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     fn in_fanuc_program(&self) -> bool {
         self.frames
             .iter()
-            .any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with('O')))
+            .any(|frame| matches!(&frame.kind, FrameKind::Call { origin, .. } if origin.what.starts_with(['O', 'N'])))
     }
 
     /// Whether the locals in force are a macro's `G65` called (an M98
@@ -905,6 +1000,15 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
 
     /// A line read from the program: run it, or keep it in the block being read.
     fn read(&mut self, line: Line) {
+        if self.ended && self.open.is_empty() && self.local_lines.iter().any(|lines| lines.contains(&line.number())) {
+            // A local subprogram after M30 (M97's), which runs only where called.
+            self.out.extend(line.items.into_iter().filter_map(|item| match item {
+                Piece::Lexed(said @ Lexed::Diagnostic(_)) => Some(said),
+                _ => None,
+            }));
+            self.out.extend(line.end.map(Lexed::Token));
+            return;
+        }
         let program = self.fanuc_block(&line).filter(|control| {
             control.keyword == Keyword::Program
                 || self.open.last().is_some_and(|open| open.head.keyword == Keyword::Program)
@@ -918,11 +1022,18 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let Some(control) = program.or_else(|| line.control().cloned()) else {
             return self.add(Node::Line(line));
         };
+        // What goes with M99 runs before the return; the line's diagnostics
+        // go with it, to be said when it runs.
+        let before = (control.fanuc && control.keyword == Keyword::EndProgram).then(|| line.before_its_end()).flatten();
+        let ran_before = before.is_some();
+        if let Some(before) = before {
+            self.add(Node::Line(before));
+        }
         // The line's diagnostics and end still go out, in their place.
         if let Err(diagnostic) = self.structure(control) {
             self.error(diagnostic);
         }
-        for item in line.items {
+        for item in line.items.into_iter().filter(|_| !ran_before) {
             if let Piece::Lexed(diagnostic @ Lexed::Diagnostic(_)) = item {
                 self.out.push_back(diagnostic);
             }
@@ -1552,6 +1663,8 @@ const PAUSE: u32 = 3006;
 /// A call to a Fanuc program: `M98 P.. L..`, or `G65 P.. L..` and its arguments.
 struct FanucCall {
     macro_call: bool,
+    /// Haas's `M97 Pn`: the lines from `Nn` of this program to its M99.
+    local: bool,
     at: Span,
     program: Option<f64>,
     repeat: f64,
@@ -1577,9 +1690,10 @@ fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
             _ => None,
         })
     };
-    let (macro_call, at) = words().find_map(|(letter, value, span)| match (letter, value) {
-        ('G', 65.0) => Some((true, span)),
-        ('M', 98.0) => Some((false, span)),
+    let (macro_call, local, at) = words().find_map(|(letter, value, span)| match (letter, value) {
+        ('G', 65.0) => Some((true, false, span)),
+        ('M', 98.0) => Some((false, false, span)),
+        ('M', 97.0) => Some((false, true, span)),
         _ => None,
     })?;
     let value = |wanted: char| words().find(|(letter, ..)| *letter == wanted).map(|(_, value, _)| value);
@@ -1588,7 +1702,12 @@ fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
     } else {
         Vec::new()
     };
-    Some(FanucCall { macro_call, at, program: value('P'), repeat: value('L').unwrap_or(1.0), args })
+    Some(FanucCall { macro_call, local, at, program: value('P'), repeat: value('L').unwrap_or(1.0), args })
+}
+
+/// Whether a line ends a program read as a block: M99, or M30 or M2.
+fn ends_a_program(line: &Line) -> bool {
+    line.words().any(|(letter, value, _)| letter == 'M' && [99.0, 30.0, 2.0].contains(&value))
 }
 
 /// M30, M2 or M47 in a called program, as pass 00 says of them in a subprogram.
@@ -2179,6 +2298,33 @@ mod tests {
             "G21 G90 F100\nM98 P30010\nM30\nO10\nG01 X1\nM99\nO30010\nG01 Y2\nM99",
             "G21 G90 F100\nG01 Y2\nM30",
         );
+    }
+
+    #[test]
+    fn what_goes_with_m99_runs_before_the_return() {
+        // `G90 M99`: the G90 is in force after the call, as a Fanuc runs it.
+        same_as_twin(
+            "G21 G90 F100\nM98 P100 L2\nX5\nM30\nO100\nG91 G01 X1\nG90 M99",
+            "G21 G90 F100\nG91 G01 X1\nG90\nG91 X1\nG90\nX5\nM30",
+        );
+    }
+
+    #[test]
+    fn haas_m97_runs_the_lines_from_its_label_to_m99() {
+        // The local subprograms after M30, each ending at its own M99, L times;
+        // their lines do not run again after M30 (and are not warned of).
+        same_as_twin(
+            "G21 G90 F100\nG01 X1 Y1\nM97 P100 L2\nX2\nM97 P200\nG00 Z1\nM30\n\
+             N100 G91 G01 X0.5\nY0.5\nG90 M99\nN200 G01 Y3\nM99",
+            "G21 G90 F100\nG01 X1 Y1\nG91 G01 X0.5\nY0.5\nG90\nG91 X0.5\nY0.5\nG90\nX2\nY3\nG00 Z1\nM30",
+        );
+        // Called again, from a loop: read once, run each time.
+        same_as_twin(
+            "G21 G90 F100\n#1 = 0\nWHILE [#1 LT 2] DO1\nM97 P5\n#1 = #1 + 1\nEND1\nM30\nN5 G91 G01 X1\nG90 M99",
+            "G21 G90 F100\nG91 G01 X1\nG90\nG91 X1\nG90\nM30",
+        );
+        let got = flat("G01 X1 F10\nM97 P7\nG01 Y1");
+        assert_eq!(got[1], "3:1: error: M97 P7: the program has no line N7", "{got:?}");
     }
 
     #[test]

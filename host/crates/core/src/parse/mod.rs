@@ -360,8 +360,10 @@ fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str>
         ('G', 980 | 990) | ('M', 20 | 310 | 330 | 470) => Some(""),
         // Units alone; with the words of LinuxCNC's and Fanuc's lathe cycles, refused as one.
         ('G', 700 | 710) => Some("PQDIKUWRF"),
-        // Calls of program parts ger cannot read: refused, with why.
-        ('M', 970 | 1980) => None,
+        // M97 is run by the interpreter stage (macros), on the program's own
+        // text; M198 calls a program ger cannot read: refused, with why.
+        ('M', 970) => Some("PL"),
+        ('M', 1980) => None,
         // An M code ger does not know passes through with the words I/O and
         // user codes take (M62 P1, M66 P0 L3 Q5, M68 E0 Q50, M100 P1 Q2).
         ('M', n) if n.is_multiple_of(10) => Some("PQEL"),
@@ -846,7 +848,7 @@ fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnos
         ('G', 960) => "constant surface speed (G96) is a lathe's mode: give the spindle speed in rpm",
         ('G', 120 | 130) => "circular pocket cycles differ between controllers: write the moves, or use a wizard",
         ('G', 431 | 432) => "dynamic tool length offsets are not supported: use G43 H with the tool table",
-        ('M', 970) => "M97 calls a part of this program by its N number, which ger does not read: use M98 and O",
+        ('M', 970) => "M97 runs lines of the program's own text by their N number, which a wizard's output has none of",
         ('M', 1980) => "M198 calls a program from the controller's memory card, which ger cannot read",
         _ => return omitted_or_unknown(letter, number, name, span),
     };

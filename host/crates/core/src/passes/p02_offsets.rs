@@ -235,10 +235,9 @@ impl Pass for Offsets {
                         // axes not given keep theirs.
                         let [x, y] = turn([position[0] - system[0], position[1] - system[1]], -self.rotation);
                         let reads = [x, y, position[2] - system[2]];
-                        for axis in 0..3 {
+                        for (axis, read) in reads.into_iter().enumerate() {
                             if let Some(v) = axes.get(axis) {
-                                self.kept_g92[axis] =
-                                    if *code == Offset::G52 { v.value } else { reads[axis] - v.value };
+                                self.kept_g92[axis] = if *code == Offset::G52 { v.value } else { read - v.value };
                             }
                         }
                         self.set_prz(self.in_system(self.kept_g92), None);
