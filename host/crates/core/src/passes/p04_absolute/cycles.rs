@@ -32,6 +32,16 @@ pub struct CycleState {
     pending: Option<Holes>,
 }
 
+impl CycleState {
+    /// A move that is not a cycle's, or G80: the initial level goes, and so
+    /// does R (LinuxCNC refuses the next series without one; a Fanuc starts
+    /// it at its initial level).
+    pub fn end_series(&mut self) {
+        self.initial = None;
+        self.r = None;
+    }
+}
+
 /// A cycle block's holes still to drill: its L repeats share the levels
 /// worked out where the block began.
 struct Holes {
@@ -74,6 +84,26 @@ impl Absolute {
             keep.map(|number| number + zero)
         };
         let z = given(cycle.target.get(n), &mut sticky.z, zero);
+        let initial = sticky.initial.unwrap_or(self.position[n]);
+        if cycle.r.is_none() && sticky.r.is_none() {
+            // Fanuc and Haas read an R not given as the initial level (in
+            // G91 its distance from there, 0): the hole is fed from where the
+            // tool is. LinuxCNC refuses the block.
+            sticky.r = Some(match self.distance {
+                Distance::Absolute => initial - zero,
+                Distance::Incremental => 0.0,
+            });
+            let (u, d) = (self.units.abbreviation(), self.units.decimals());
+            let message = format!(
+                "{code} has no R word: it feeds from the level where it starts, {depth_axis}{:.d$} {u}",
+                initial - zero,
+                depth_axis = ["X", "Y", "Z"][n]
+            );
+            let help = format!(
+                "as a Fanuc or Haas reads it; write R (e.g. {code} ... R0.1) for a rapid down to the R level first"
+            );
+            self.warnings.push(Diagnostic::warning(statement.span, message).with_help(help));
+        }
         let r = given(cycle.r, &mut sticky.r, zero);
         let q = given(cycle.q, &mut sticky.q, 0.0);
         let p = given(cycle.p, &mut sticky.p, 0.0);
@@ -89,16 +119,15 @@ impl Absolute {
             z.ok_or_else(|| {
                 missing(&format!("{} {depth} word: the bottom of the hole", if n == 0 { "an" } else { "a" }))
             })?,
-            r.ok_or_else(|| missing("an R word: the plane it starts from"))?,
+            r.expect("an R not given is the initial level"),
         );
         let q = match cycle.code {
             CycleCode::Peck | CycleCode::ChipBreak => Some(q.ok_or_else(|| missing("a Q word: the peck depth"))?),
             _ => None,
         };
         let p = match cycle.code {
-            CycleCode::DrillDwell | CycleCode::BoreSpindleStop | CycleCode::BoreDwell => {
-                Some(p.ok_or_else(|| missing("a P word: the dwell in seconds"))?)
-            }
+            // Without P, no dwell, as a Fanuc or Haas (LinuxCNC requires it for G82, G86 and G89).
+            CycleCode::DrillDwell | CycleCode::BoreSpindleStop | CycleCode::BoreDwell => Some(p.unwrap_or(0.0)),
             CycleCode::Tap | CycleCode::TapLeft => p,
             _ => None,
         };
@@ -106,7 +135,7 @@ impl Absolute {
             return Err(Diagnostic::error(statement.span, format!("{code} before any feed rate (F)"))
                 .with_help(format!("give the feed on the cycle, e.g. {code} ... F10")));
         }
-        let initial = *self.cycles.initial.get_or_insert(self.position[n]);
+        self.cycles.initial = Some(initial);
         let (r_plane, bottom) = match self.distance {
             Distance::Absolute => (r, z),
             Distance::Incremental => (initial + r, initial + r + z),
@@ -268,6 +297,45 @@ mod tests {
         // Before each hole: the start, the G99 retract, the climb to R5, its retract.
         assert_eq!(retracts, ["G00 Z10.000", "G00 Z2.000", "G00 Z5.000", "G00 Z5.000"]);
         assert_eq!(got.last().unwrap(), "G00 Z2.000");
+    }
+
+    #[test]
+    fn a_series_without_r_feeds_from_its_initial_level_as_a_fanuc_does() {
+        // From Z5: no R, so R is Z5 (G90) or 0 from there (G91): each hole is
+        // fed from Z5 and the retract is to Z5. G82 with no P does not dwell.
+        // After G80 the next series starts at its own level, not at the R before.
+        let config = Config { units: Units::Mm, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let program =
+            "G00 Z5\nG98 G82 X1 Z-2 F100\nX2\nG80\nG00 Z3\nG91 G81 X1 Z-4\nG90 G80\nG81 X9 Z-1 R2\nG80\nG81 X8 Z-1";
+        let got = run_with(program, &config, 4);
+        let warnings = got.iter().filter(|l| l.contains("warning: G8")).count();
+        let moves: Vec<&str> = got.iter().filter(|l| l.starts_with('G')).map(String::as_str).collect();
+        assert_eq!(
+            moves,
+            [
+                "G00 Z5.000",
+                "G00 X1.000",
+                "G01 Z-2.000 F100.000",
+                "G00 Z5.000",
+                "G00 X2.000",
+                "G01 Z-2.000",
+                "G00 Z5.000",
+                "G00 Z3.000",
+                "G00 X3.000",
+                "G01 Z-1.000",
+                "G00 Z3.000",
+                "G00 X9.000",
+                "G00 Z2.000",
+                "G01 Z-1.000",
+                "G00 Z3.000",
+                "G00 X8.000",
+                "G01 Z-1.000",
+                "G00 Z3.000",
+            ],
+            "{got:?}"
+        );
+        // One warning a series that has no R: three.
+        assert_eq!(warnings, 3, "{got:?}");
     }
 
     #[test]

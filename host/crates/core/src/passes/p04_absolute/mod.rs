@@ -397,7 +397,7 @@ impl Absolute {
             _ => drawn.is_some(),
         };
         if moves {
-            self.cycles.initial = None;
+            self.cycles.end_series();
         }
         if let Some(result) = drawn {
             if let Err(diagnostic) = result {
