@@ -131,6 +131,8 @@ pub struct Lexer<R> {
     read_code: bool,
     /// Where the lines read are kept, if they are.
     history: Option<SharedHistory>,
+    /// A line not in UTF-8 has been read as Latin-1 (and said so, once).
+    read_8_bit: bool,
 }
 
 /// The longest line read: 1 MiB, far beyond any real program's.
@@ -216,6 +218,7 @@ impl<R: BufRead> Lexer<R> {
             lenient: dialect == Dialect::Lenient,
             read_code: false,
             history: None,
+            read_8_bit: false,
         }
     }
 
@@ -274,15 +277,22 @@ impl<R: BufRead> Lexer<R> {
         let line = std::mem::take(&mut self.raw);
         // A byte-order mark, left by some Windows editors, is not part of the program.
         let body = if self.line_no == 1 { line.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&line) } else { &line };
+        let decoded: String;
         let text = match std::str::from_utf8(body) {
             Ok(text) => text,
             Err(err) => {
-                let col = err.valid_up_to();
-                let message = "this line is not valid UTF-8 text";
-                self.push_diag(Diagnostic::error(self.span(col, 1), message));
-                self.raw = line;
-                self.push_token(TokenKind::End, self.raw.len(), 0);
-                return;
+                // Programs from older editors and controllers are often in an
+                // 8-bit code page (Latin-1, Windows-1252): their G-code is
+                // ASCII, and only comments hold other letters (°, Ø, µ, ą).
+                // Each byte is read as its Latin-1 character.
+                if !self.read_8_bit {
+                    self.read_8_bit = true;
+                    let message = "this line is not UTF-8 text: it is read as Latin-1 (ISO 8859-1)";
+                    let help = "G-code is read the same either way; only letters in comments may show otherwise";
+                    self.push_diag(Diagnostic::warning(self.span(err.valid_up_to(), 1), message).with_help(help));
+                }
+                decoded = body.iter().map(|&byte| char::from(byte)).collect();
+                &decoded
             }
         };
         let bytes = text.as_bytes();
@@ -631,7 +641,22 @@ impl<R: BufRead> Lexer<R> {
     fn macro_b(&mut self, text: &str, start: usize, len: usize) -> Option<usize> {
         let word = text[start..start + len].to_ascii_uppercase();
         let loop_number = |digits: &str| digits.parse::<u8>().ok().filter(|m| (1..=3).contains(m));
-        if let Some(number) = word.strip_prefix("END").and_then(loop_number) {
+        // A Fanuc reads past spaces, so `END 1` and `DO 1` are END1 and DO1:
+        // the length of `keyword` at `from` with the spaces and digit after it.
+        let spaced = |from: usize, keyword: usize| {
+            let rest = &text[from + keyword..];
+            let digits = rest.trim_start();
+            let number = digits.bytes().take_while(u8::is_ascii_digit).count();
+            (number > 0).then(|| (keyword + rest.len() - digits.len() + number, &digits[..number]))
+        };
+        let end_loop = match word.strip_prefix("END").and_then(loop_number) {
+            Some(number) => Some((number, len)),
+            None if word == "END" => {
+                spaced(start, len).and_then(|(len, digits)| loop_number(digits).map(|number| (number, len)))
+            }
+            None => None,
+        };
+        if let Some((number, len)) = end_loop {
             let span = self.span(start, len);
             let control =
                 Control { label: number.to_string(), keyword: Keyword::EndWhile, args: Vec::new(), span, fanuc: true };
@@ -648,8 +673,13 @@ impl<R: BufRead> Lexer<R> {
         let parsed = reader.bracketed().and_then(|condition| {
             let rest = text[reader.pos..].trim_start();
             let after = text.len() - rest.len();
-            let letters = rest.bytes().take_while(u8::is_ascii_alphanumeric).count();
-            let next = rest[..letters].to_ascii_uppercase();
+            let mut letters = rest.bytes().take_while(u8::is_ascii_alphanumeric).count();
+            let mut next = rest[..letters].to_ascii_uppercase();
+            if next == "DO" {
+                if let Some((spaced_len, digits)) = spaced(after, 2) {
+                    (letters, next) = (spaced_len, format!("DO{digits}"));
+                }
+            }
             let span = self.span(start, after + letters - start);
             match (word.as_str(), next.strip_prefix("DO").and_then(loop_number)) {
                 ("WHILE", Some(number)) => {
@@ -915,6 +945,32 @@ mod tests {
             ]
         );
         assert_eq!(tokens("G00 (open")[1], "1:5: error: comment is never closed");
+    }
+
+    #[test]
+    fn a_line_in_an_8_bit_code_page_is_read_as_latin_1_with_one_warning() {
+        // `(Ø6 FRÄSER)` and `(45°)` saved as Latin-1: 0xD8, 0xC4 and 0xB0 are not UTF-8.
+        let program = b"G01 X1 (\xd86 FR\xc4SER)\nG00 Z5 (45\xb0)\n";
+        let got: Vec<String> = Lexer::new(&program[..])
+            .map(|item| match item {
+                Lexed::Token(t) => format!("{:?}", t.kind),
+                Lexed::Diagnostic(d) => format!("{d}"),
+            })
+            .collect();
+        assert_eq!(
+            got,
+            [
+                "1:9: warning: this line is not UTF-8 text: it is read as Latin-1 (ISO 8859-1)",
+                "Word { letter: 'G', value: 1.0 }",
+                "Word { letter: 'X', value: 1.0 }",
+                "Comment(\"Ø6 FRÄSER\")",
+                "End",
+                "Word { letter: 'G', value: 0.0 }",
+                "Word { letter: 'Z', value: 5.0 }",
+                "Comment(\"45°\")",
+                "End",
+            ]
+        );
     }
 
     #[test]

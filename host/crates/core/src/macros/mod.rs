@@ -2301,6 +2301,15 @@ mod tests {
     }
 
     #[test]
+    fn fanuc_loop_numbers_may_follow_a_space() {
+        // A Fanuc reads past spaces: `DO 1` and `END 1` are DO1 and END1.
+        same_as_twin(
+            "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 2] DO 1\n#1 = #1 + 1\nG01 X#1\nEND 1\nM30",
+            "G21 G90 F50\nG01 X1\nX2\nM30",
+        );
+    }
+
+    #[test]
     fn what_goes_with_m99_runs_before_the_return() {
         // `G90 M99`: the G90 is in force after the call, as a Fanuc runs it.
         same_as_twin(

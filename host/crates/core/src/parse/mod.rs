@@ -670,7 +670,7 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         // control or smoothing (G05.1 Q1 R5, G05.1 Q0) share their numbers
         // with LinuxCNC's splines; with none of a curve's words they set how
         // the servos follow the path, not the path.
-        ('G', 50) if words.get('P').is_some() && !words.has_any("XYZIJKRQF") => Kind::NoEffect("G05"),
+        ('G', 50) if !words.has_any("XYZIJKRQF") => Kind::NoEffect("G05"),
         ('G', 51) if words.get('Q').is_some() && !words.has_any("XYZIJKF") => Kind::NoEffect("G05.1"),
         ('G', 50) => Kind::Spline(Box::new(spline(Some(SplineCode::Cubic), span, words)?)),
         ('G', 51) => Kind::Spline(Box::new(spline(Some(SplineCode::Quadratic), span, words)?)),
@@ -1123,7 +1123,7 @@ mod tests {
     fn fanucs_g05_and_g05_1_servo_modes_are_not_splines() {
         // G05 P10000 / G05 P0 (high-speed machining) and G05.1 Q1 R5 / Q0
         // (AI contour control) with no word of a curve: modes of the servos.
-        for program in ["G05 P10000", "G05 P0", "G05.1 Q1", "G05.1 Q1 R5", "G5.1 Q0"] {
+        for program in ["G05 P10000", "G05 P0", "G05", "G05.1 Q1", "G05.1 Q1 R5", "G5.1 Q0"] {
             let got = parsed_lenient(program);
             assert_eq!(got.len(), 1, "{program}: {got:?}");
             assert!(got[0].starts_with("1:1 NoEffect(\"G05"), "{program}: {got:?}");
