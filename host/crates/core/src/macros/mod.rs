@@ -295,14 +295,15 @@ impl Line {
         })
     }
 
-    /// The line without the M99 (or M30, M2) that ends a program read as a
-    /// block, and M99's P, if anything else is on it: a Fanuc runs
+    /// The line without the M99 (or M30, M2, Fadal's M17) that ends a
+    /// program read as a block, and M99's P, if anything else is on it: a Fanuc runs
     /// `G90 M99` as G90, then the return.
     fn before_its_end(&self) -> Option<Line> {
-        let ends = self.words().any(|(letter, value, _)| letter == 'M' && [99.0, 30.0, 2.0].contains(&value));
+        const ENDS: [f64; 4] = [99.0, 30.0, 2.0, 17.0];
+        let ends = self.words().any(|(letter, value, _)| letter == 'M' && ENDS.contains(&value));
         let kept = |item: &&Piece| match item {
             Piece::Lexed(Lexed::Token(Token { kind: TokenKind::Word { letter, value }, .. })) => {
-                let end = *letter == 'M' && [99.0, 30.0, 2.0].contains(value);
+                let end = *letter == 'M' && ENDS.contains(value);
                 !(end || *letter == 'P' && ends)
             }
             _ => true,
@@ -448,6 +449,10 @@ pub struct Interpreter<'a, L> {
     local_lines: Vec<std::ops::RangeInclusive<u32>>,
     /// The main program has run its M30 or M2: what follows runs only where called.
     ended: bool,
+    /// Fadal subroutines (`L0100` ... `M17`) have been defined.
+    fadal_subroutines: bool,
+    /// A line of the main program with words other than its O number has run.
+    ran_code: bool,
 }
 
 #[derive(Clone, Copy)]
@@ -495,6 +500,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             first_code_line: None,
             local_lines: Vec::new(),
             ended: false,
+            fadal_subroutines: false,
+            ran_code: false,
         }
     }
 
@@ -641,10 +648,30 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     }
 
     /// The block a line opens or closes as a Fanuc program: `O1000` (but
-    /// the program's own name, on its first line of code) or `M99`.
-    fn fanuc_block(&self, line: &Line) -> Option<Control> {
+    /// the program's own name, on its first line of code) or `M99`; or as
+    /// a Fadal subroutine: `L0100` alone, to `M17` (inside one, `inside`).
+    fn fanuc_block(&self, line: &Line, inside: Option<&Control>) -> Option<Control> {
         if !self.fanuc_programs {
             return None;
+        }
+        if let Some((number, 0, span)) = fadal_subroutine(line) {
+            return Some(Control {
+                label: format!("L{number}"),
+                keyword: Keyword::Program,
+                args: Vec::new(),
+                span,
+                fanuc: true,
+            });
+        }
+        let in_fadal = inside.is_some_and(|block| block.keyword == Keyword::Program && block.label.starts_with('L'));
+        if let Some((_, _, span)) = line.words().find(|&(l, v, _)| in_fadal && l == 'M' && v == 17.0) {
+            return Some(Control {
+                label: String::new(),
+                keyword: Keyword::EndProgram,
+                args: Vec::new(),
+                span,
+                fanuc: true,
+            });
         }
         let mut words = line.words();
         let (letter, value, span) = words.next()?;
@@ -792,8 +819,17 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         if failed.is_none() && self.in_fanuc_program() {
             failed = ends_program(&tokens);
         }
-        if failed.is_none() && self.call_depth() == 0 && ends_program(&tokens).is_some() {
-            self.ended = true;
+        if failed.is_none() && self.call_depth() == 0 {
+            if self.fadal_subroutines && !self.ran_code && ends_program(&tokens).is_some() {
+                // Fadal: the M30 after the subroutines that open the program
+                // ends their section; the main program follows.
+                tokens.retain(|token| !matches!(token.kind, TokenKind::Word { letter: 'M', value } if value == 30.0 || value == 2.0));
+            }
+            if ends_program(&tokens).is_some() {
+                self.ended = true;
+            }
+            self.ran_code |=
+                tokens.iter().any(|token| matches!(token.kind, TokenKind::Word { letter, .. } if letter != 'O'));
         }
         let jump = jump.filter(|_| failed.is_none());
         let mut call = None;
@@ -843,6 +879,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// the one calls run, as in pass 00 (LinuxCNC runs the first and reads
     /// past the second); a LinuxCNC subroutine's last.
     fn define(&mut self, sub: Rc<Sub>) {
+        self.fadal_subroutines |= sub.head.label.starts_with('L');
         if sub.head.keyword == Keyword::Program && self.subs.contains_key(&sub.head.label) {
             let message = format!("{} is defined again: calls run its first definition", sub.head.label);
             let help = "give each subprogram its own number, or remove the one that never runs";
@@ -868,10 +905,11 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     /// follows), with the locals a G65 gives it. `None` for an M98 whose
     /// program is not in the file: pass 00 looks for it beside the program.
     fn prepare_call(&mut self, call: FanucCall) -> Result<Option<Ready>, Diagnostic> {
-        let code = match (call.macro_call, call.local) {
-            (true, _) => "G65",
-            (false, true) => "M97",
-            (false, false) => "M98",
+        let code = match (call.macro_call, call.local, call.fadal) {
+            (true, ..) => "G65",
+            (_, true, _) => "M97",
+            (.., true) => "L",
+            _ => "M98",
         };
         let number = call.program.filter(|p| *p >= 0.0 && p.fract() == 0.0);
         let Some(number) = number else {
@@ -890,7 +928,15 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         };
         let mut call = call;
         let mut label = format!("O{}", number as u64);
-        if call.local {
+        if call.fadal {
+            label = format!("L{number}");
+            if !self.subs.contains_key(&label) {
+                let (number, times) = (number as u32, call.repeat as u32);
+                let message = format!("L{number:02}{times:02} calls Fadal subroutine {number}, which is not defined");
+                let help = format!("define it before it is called: L{number:02}00, its lines, M17");
+                return Err(Diagnostic::error(call.at, message).with_help(help));
+            }
+        } else if call.local {
             label = self.local_program(number as u64, call.at)?;
         } else if !self.find_program(number as u64, &label)
             && !call.macro_call
@@ -1009,7 +1055,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             self.out.extend(line.end.map(Lexed::Token));
             return;
         }
-        let program = self.fanuc_block(&line).filter(|control| {
+        let program = self.fanuc_block(&line, self.open.last().map(|open| &open.head)).filter(|control| {
             control.keyword == Keyword::Program
                 || self.open.last().is_some_and(|open| open.head.keyword == Keyword::Program)
         });
@@ -1382,7 +1428,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 std::collections::hash_map::Entry::Occupied(_) => self.more_labels.push((number, label)),
             }
         }
-        let fanuc = self.fanuc_block(line);
+        let fanuc = self.fanuc_block(line, self.structure.last());
         let Some(control) = fanuc.as_ref().or(line.control()) else { return };
         let top = self.structure.last();
         let closes = |keywords: &[Keyword]| {
@@ -1566,7 +1612,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             // Every definition passed on the way is taken, so that looking for
             // one program does not hide another (M98 P30010: O30010, or O10).
             let defines = line.control().is_some_and(|c| c.keyword == Keyword::Sub)
-                || self.fanuc_block(&line).is_some_and(|c| c.keyword == Keyword::Program);
+                || self.fanuc_block(&line, None).is_some_and(|c| c.keyword == Keyword::Program);
             if !defines {
                 self.ahead.push_back(line);
                 continue;
@@ -1665,6 +1711,8 @@ struct FanucCall {
     macro_call: bool,
     /// Haas's `M97 Pn`: the lines from `Nn` of this program to its M99.
     local: bool,
+    /// Fadal's `L0102`: subroutine 1, defined by `L0100` ... `M17`, twice.
+    fadal: bool,
     at: Span,
     program: Option<f64>,
     repeat: f64,
@@ -1690,6 +1738,18 @@ fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
             _ => None,
         })
     };
+    if let Some((number, times, at)) = fadal_call(tokens) {
+        let program = Some(number as f64);
+        return Some(FanucCall {
+            macro_call: false,
+            local: false,
+            fadal: true,
+            at,
+            program,
+            repeat: times as f64,
+            args: Vec::new(),
+        });
+    }
     let (macro_call, local, at) = words().find_map(|(letter, value, span)| match (letter, value) {
         ('G', 65.0) => Some((true, false, span)),
         ('M', 98.0) => Some((false, false, span)),
@@ -1702,7 +1762,42 @@ fn fanuc_call(tokens: &[Token]) -> Option<FanucCall> {
     } else {
         Vec::new()
     };
-    Some(FanucCall { macro_call, local, at, program: value('P'), repeat: value('L').unwrap_or(1.0), args })
+    Some(FanucCall {
+        macro_call,
+        local,
+        fadal: false,
+        at,
+        program: value('P'),
+        repeat: value('L').unwrap_or(1.0),
+        args,
+    })
+}
+
+/// Fadal's subroutines: a line of one `L` word of four digits (`L0100`,
+/// leading zeros optional), its first two the subroutine (1 to 99), its last
+/// two the times to run it (00: the subroutine's definition starts here).
+fn fadal_subroutine(line: &Line) -> Option<(u32, u32, Span)> {
+    let mut words = line.words();
+    match (words.next()?, words.next()) {
+        (('L', value, span), None) if value.fract() == 0.0 && (100.0..10_000.0).contains(&value) => {
+            let value = value as u32;
+            Some((value / 100, value % 100, span))
+        }
+        _ => None,
+    }
+}
+
+/// [`fadal_subroutine`] as the tokens of a line about to run: a call.
+fn fadal_call(tokens: &[Token]) -> Option<(u32, u32, Span)> {
+    let mut words = tokens.iter().filter(|token| matches!(token.kind, TokenKind::Word { .. }));
+    match (words.next(), words.next()) {
+        (Some(Token { kind: TokenKind::Word { letter: 'L', value }, span }), None)
+            if value.fract() == 0.0 && (100.0..10_000.0).contains(value) && *value as u32 % 100 > 0 =>
+        {
+            Some((*value as u32 / 100, *value as u32 % 100, *span))
+        }
+        _ => None,
+    }
 }
 
 /// Whether a line ends a program read as a block: M99, or M30 or M2.
@@ -2307,6 +2402,18 @@ mod tests {
             "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 2] DO 1\n#1 = #1 + 1\nG01 X#1\nEND 1\nM30",
             "G21 G90 F50\nG01 X1\nX2\nM30",
         );
+    }
+
+    #[test]
+    fn fadal_subroutines_open_the_program_and_run_at_their_l_words() {
+        // As a Fadal reads them: L0100 ... M17 defines subroutine 1, the M30
+        // after the definitions ends their section, and L0102 runs it twice.
+        same_as_twin(
+            "O2 (PLATE)\nL100\nG91 X1.\nG90 M17\nL200\nY5.\nM17\nM30\nG21 G90 F100\nG01 X1 Y1\nL102\nL201\nM30",
+            "O2 (PLATE)\nG21 G90 F100\nG01 X1 Y1\nG91 X1\nG90\nG91 X1\nG90\nY5\nM30",
+        );
+        let got = flat("G01 X1 F10\nL0301\nG01 Y1");
+        assert_eq!(got[1], "3:1: error: L0301 calls Fadal subroutine 3, which is not defined", "{got:?}");
     }
 
     #[test]

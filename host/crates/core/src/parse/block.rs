@@ -28,6 +28,10 @@ pub(super) fn arrange(block: Vec<Group>, warnings: &mut Vec<Diagnostic>) -> Resu
         match group.head {
             Head::Bare => {}
             Head::Wizard { .. } => wizards.push(group),
+            // A code written twice (`G0 G90 G0 X0`, as a Fadal post writes
+            // it) is read once: LinuxCNC refuses it as two of one group, a
+            // Fanuc takes the last of a group, and both mean the same here.
+            Head::Code { .. } if codes.iter().any(|code| number(code) == number(&group)) => {}
             Head::Code { .. } => codes.push(group),
         }
     }

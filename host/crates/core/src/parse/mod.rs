@@ -1120,6 +1120,16 @@ mod tests {
     }
 
     #[test]
+    fn a_code_written_twice_in_a_block_is_read_once() {
+        // A Fadal post's `G0 G90 G0 X0 Y0`: one rapid; two codes of one group still clash.
+        let got = parsed_lenient("G0 G90 G0 X1 Y2");
+        assert_eq!(got.len(), 2, "{got:?}");
+        assert_eq!(got[0], "1:4 Distance(Absolute)");
+        assert!(got[1].starts_with("1:1 Motion(Motion { mode: Some(Rapid), target: Axes { x: Some(Value { value: 1.0"));
+        assert!(parsed_lenient("G0 G1 X1")[0].ends_with("G00 and G01 on one line: they are codes of the same group"));
+    }
+
+    #[test]
     fn fanucs_g05_and_g05_1_servo_modes_are_not_splines() {
         // G05 P10000 / G05 P0 (high-speed machining) and G05.1 Q1 R5 / Q0
         // (AI contour control) with no word of a curve: modes of the servos.
