@@ -1792,7 +1792,7 @@ fn fadal_call(tokens: &[Token]) -> Option<(u32, u32, Span)> {
     let mut words = tokens.iter().filter(|token| matches!(token.kind, TokenKind::Word { .. }));
     match (words.next(), words.next()) {
         (Some(Token { kind: TokenKind::Word { letter: 'L', value }, span }), None)
-            if value.fract() == 0.0 && (100.0..10_000.0).contains(value) && *value as u32 % 100 > 0 =>
+            if value.fract() == 0.0 && (100.0..10_000.0).contains(value) && !(*value as u32).is_multiple_of(100) =>
         {
             Some((*value as u32 / 100, *value as u32 % 100, *span))
         }
