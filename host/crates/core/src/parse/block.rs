@@ -40,7 +40,12 @@ pub(super) fn arrange(block: Vec<Group>, warnings: &mut Vec<Diagnostic>) -> Resu
 
     let motion = numbers.iter().position(|&code| modal_group(code) == Some(MOTION) && code != ('G', 800));
     let axis_code = numbers.iter().position(|&code| uses_axes(code));
-    if let (Some(m), Some(a)) = (motion, axis_code) {
+    // G00 or G01 beside G28, G30, G92... (`G00 G91 G28 Z0`, as Fanuc posts
+    // write it): the axes are the other code's, and the move's code is the
+    // motion mode after it, as a Fanuc reads a block's one-shot code with
+    // its modal one. LinuxCNC refuses the block.
+    let straight = motion.is_some_and(|m| matches!(numbers[m], ('G', 0 | 10)));
+    if let (Some(m), Some(a), false) = (motion, axis_code, straight) {
         if words.iter().any(|(letter, _)| AXES.contains(*letter)) {
             let message = format!(
                 "{} and {} both use the axis words of their line",

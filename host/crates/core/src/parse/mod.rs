@@ -1120,6 +1120,20 @@ mod tests {
     }
 
     #[test]
+    fn g00_beside_g28_leaves_it_the_axes_and_is_the_mode_after_it() {
+        // `G00 G91 G28 Z0`: G28 Z0 through no intermediate point in G91, then G00 in force.
+        let got = parsed_lenient("G00 G91 G28 Z0");
+        assert_eq!(got.len(), 3, "{got:?}");
+        assert_eq!(got[0], "1:5 Distance(Incremental)");
+        assert!(
+            got[1].starts_with("1:9 Home { reference: Home, via: Axes { x: None, y: None, z: Some(Value { value: 0.0")
+        );
+        assert!(got[2].starts_with("1:1 Motion(Motion { mode: Some(Rapid), target: Axes { x: None, y: None, z: None }"));
+        // An arc cannot give its axes away.
+        assert!(parsed_lenient("G02 G28 Z0")[0].ends_with("G28 and G02 both use the axis words of their line"));
+    }
+
+    #[test]
     fn a_code_written_twice_in_a_block_is_read_once() {
         // A Fadal post's `G0 G90 G0 X0 Y0`: one rapid; two codes of one group still clash.
         let got = parsed_lenient("G0 G90 G0 X1 Y2");
