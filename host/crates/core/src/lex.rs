@@ -133,6 +133,9 @@ pub struct Lexer<R> {
     history: Option<SharedHistory>,
     /// A line not in UTF-8 has been read as Latin-1 (and said so, once).
     read_8_bit: bool,
+    /// Whether the first line with anything on it was `%` (a tape, which
+    /// ends at the next one); `None` before that line.
+    tape: Option<bool>,
 }
 
 /// The longest line read: 1 MiB, far beyond any real program's.
@@ -219,6 +222,7 @@ impl<R: BufRead> Lexer<R> {
             read_code: false,
             history: None,
             read_8_bit: false,
+            tape: None,
         }
     }
 
@@ -233,6 +237,10 @@ impl<R: BufRead> Lexer<R> {
     pub fn starting_at(mut self, first: u32) -> Lexer<R> {
         self.line_no = first.saturating_sub(1);
         self.read_code = first > 1;
+        // Lines read again were read before the tape's end, if it has one.
+        if first > 1 {
+            self.tape = Some(false);
+        }
         self
     }
 
@@ -295,6 +303,19 @@ impl<R: BufRead> Lexer<R> {
                 &decoded
             }
         };
+        // A program whose first line is `%` is a tape, and ends at the next
+        // `%` line: LinuxCNC and Fanuc read nothing after it.
+        let trimmed = text.trim();
+        if self.open_comment.is_none() && !trimmed.is_empty() {
+            match self.tape {
+                None => self.tape = Some(trimmed.starts_with('%')),
+                Some(true) if trimmed.starts_with('%') => {
+                    self.push_token(TokenKind::End, text.len(), 0);
+                    return self.end_of_tape();
+                }
+                Some(_) => {}
+            }
+        }
         let bytes = text.as_bytes();
         let mut pos = 0;
         let mut first_on_line = true;
@@ -848,6 +869,27 @@ impl<R: BufRead> Lexer<R> {
         Pieces(self)
     }
 
+    /// The tape's closing `%`: nothing after it is read as the program, and
+    /// if anything is there, it is said once.
+    fn end_of_tape(&mut self) {
+        self.done = true;
+        let at = self.line_no;
+        let mut left = 0u32;
+        while let Ok(Some(_)) = self.lines.read(&mut self.raw) {
+            left += u32::from(self.raw.iter().any(|b| !b.is_ascii_whitespace()));
+        }
+        self.raw.clear();
+        if left > 0 {
+            let message = format!(
+                "the program ends at this `%`, as LinuxCNC and Fanuc read a tape: {left} line{} after it {} not read",
+                if left == 1 { "" } else { "s" },
+                if left == 1 { "is" } else { "are" }
+            );
+            let help = "a file whose first line is `%` ends at the next `%`; remove it to run what follows";
+            self.push_diag(Diagnostic::warning(Span::new(at, 1, 1), message).with_help(help));
+        }
+    }
+
     fn next_piece(&mut self) -> Option<Piece> {
         loop {
             if let Some(piece) = self.pending.pop_front() {
@@ -971,6 +1013,25 @@ mod tests {
                 "End",
             ]
         );
+    }
+
+    #[test]
+    fn a_tape_ends_at_its_second_percent_line() {
+        // As LinuxCNC and Fanuc read a file whose first line is `%`: the
+        // second program is not read, and that is said once.
+        assert_eq!(
+            tokens("\n%\nX1\n% END\nX2\n\n%\nX3\n"),
+            [
+                "1:1+0 end",
+                "2:2+0 end",
+                "3:1+2 X1",
+                "3:3+0 end",
+                "4:6+0 end",
+                "4:1: warning: the program ends at this `%`, as LinuxCNC and Fanuc read a tape: 3 lines after it are not read"
+            ]
+        );
+        // Not a tape: a `%` later on is only dropped.
+        assert_eq!(tokens("X1\n%\nX2"), ["1:1+2 X1", "1:3+0 end", "2:2+0 end", "3:1+2 X2", "3:3+0 end"]);
     }
 
     #[test]
