@@ -18,7 +18,8 @@ use crate::statement::{Cycle, CycleCode, Distance, Kind, Machine, MotionMode, Re
 
 #[derive(Default)]
 pub struct CycleState {
-    pub retract: Retract,
+    /// G98 or G99, once the program has given one.
+    pub retract: Option<Retract>,
     /// Z and R as the program wrote them (absolute ones less program zero):
     /// LinuxCNC carries the number over, read in the distance mode of the
     /// cycle that uses it.
@@ -135,6 +136,14 @@ impl Absolute {
             return Err(Diagnostic::error(statement.span, format!("{code} before any feed rate (F)"))
                 .with_help(format!("give the feed on the cycle, e.g. {code} ... F10")));
         }
+        if self.cycles.retract.is_none() {
+            // LinuxCNC starts in G99; a Fanuc or Haas in G98. Said once.
+            self.cycles.retract = Some(Retract::RPlane);
+            let message =
+                format!("{code} with neither G98 nor G99 given: it retracts to R between holes, as LinuxCNC starts");
+            let help = "a Fanuc or Haas starts in G98 (back to the initial level): write G98 or G99 to say which";
+            self.warnings.push(Diagnostic::warning(statement.span, message).with_help(help));
+        }
         self.cycles.initial = Some(initial);
         let (r_plane, bottom) = match self.distance {
             Distance::Absolute => (r, z),
@@ -176,7 +185,7 @@ impl Absolute {
                 over_hole[axis] = self.absolute(axis, v).value;
             }
         }
-        let clear = match self.cycles.retract {
+        let clear = match self.cycles.retract.unwrap_or(Retract::RPlane) {
             Retract::Initial => holes.initial.max(r_plane),
             Retract::RPlane => r_plane,
         };
@@ -336,6 +345,31 @@ mod tests {
         );
         // One warning a series that has no R: three.
         assert_eq!(warnings, 3, "{got:?}");
+    }
+
+    #[test]
+    fn without_g98_or_g99_a_series_retracts_to_r_as_linuxcnc_starts() {
+        // As rs274 runs it with no startup codes: from Z5, back to R1 after each hole; said once.
+        let config = Config { units: Units::Mm, dialect: Dialect::Lenient.into(), ..Config::default() };
+        let got = run_with("G00 Z5\nG81 X1 Z-2 R1 F100\nX2\nG80\nG81 X3 Z-2 R1", &config, 4);
+        let moves: Vec<&str> = got.iter().filter(|l| l.starts_with('G')).map(String::as_str).collect();
+        assert_eq!(
+            moves,
+            [
+                "G00 Z5.000",
+                "G00 X1.000",
+                "G00 Z1.000",
+                "G01 Z-2.000 F100.000",
+                "G00 Z1.000",
+                "G00 X2.000",
+                "G01 Z-2.000",
+                "G00 Z1.000",
+                "G00 X3.000",
+                "G01 Z-2.000",
+                "G00 Z1.000",
+            ]
+        );
+        assert_eq!(got.iter().filter(|l| l.contains("neither G98 nor G99")).count(), 1, "{got:?}");
     }
 
     #[test]

@@ -497,7 +497,7 @@ impl Absolute {
                 return;
             }
             Kind::CycleRetract(retract) => {
-                self.cycles.retract = *retract;
+                self.cycles.retract = Some(*retract);
                 return;
             }
             Kind::CycleCancel => return,
