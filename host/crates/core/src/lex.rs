@@ -136,6 +136,22 @@ pub struct Lexer<R> {
     /// Whether the first line with anything on it was `%` (a tape, which
     /// ends at the next one); `None` before that line.
     tape: Option<bool>,
+    /// Lines read past a tape's end to see what follows, to be lexed next.
+    peeked: std::collections::VecDeque<Vec<u8>>,
+}
+
+/// How many blank, `%` and comment lines are looked past after a tape's end
+/// for another program.
+const MAX_PEEKED: usize = 1000;
+
+/// Whether a line (trimmed) starts a program of its own: `O8000`, or a
+/// LinuxCNC subroutine `o100 sub`, maybe after an `N` number.
+fn starts_a_program(line: &str) -> bool {
+    let after_n = match line.strip_prefix(['N', 'n']) {
+        Some(rest) => rest.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.').trim_start(),
+        None => line,
+    };
+    after_n.strip_prefix(['O', 'o']).is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit() || c == '<'))
 }
 
 /// The longest line read: 1 MiB, far beyond any real program's.
@@ -223,6 +239,7 @@ impl<R: BufRead> Lexer<R> {
             history: None,
             read_8_bit: false,
             tape: None,
+            peeked: Default::default(),
         }
     }
 
@@ -245,6 +262,14 @@ impl<R: BufRead> Lexer<R> {
     }
 
     fn read_line(&mut self) -> bool {
+        if let Some(line) = self.peeked.pop_front() {
+            self.raw = line;
+            self.line_no += 1;
+            if let Some(history) = &self.history {
+                history.borrow_mut().push(&self.raw);
+            }
+            return true;
+        }
         match self.lines.read(&mut self.raw) {
             Ok(None) => false,
             Ok(Some(complete)) => {
@@ -870,14 +895,38 @@ impl<R: BufRead> Lexer<R> {
     }
 
     /// The tape's closing `%`: nothing after it is read as the program, and
-    /// if anything is there, it is said once.
+    /// if anything is there, it is said once. But where what follows is
+    /// another program (`O8000`, after more `%` and comments), the file is
+    /// a Fanuc's store of programs, main and subprograms each between `%`
+    /// lines: it is read on, so that the main program's calls find them.
     fn end_of_tape(&mut self) {
-        self.done = true;
         let at = self.line_no;
-        let mut left = 0u32;
-        while let Ok(Some(_)) = self.lines.read(&mut self.raw) {
-            left += u32::from(self.raw.iter().any(|b| !b.is_ascii_whitespace()));
+        let has_text = |line: &[u8]| line.iter().any(|b| !b.is_ascii_whitespace());
+        let mut peeked = Vec::new();
+        let mut next = None;
+        while peeked.len() < MAX_PEEKED {
+            let Ok(Some(_)) = self.lines.read(&mut self.raw) else { break };
+            let line = std::mem::take(&mut self.raw);
+            let text = String::from_utf8_lossy(&line);
+            let text = text.trim();
+            if text.is_empty() || text.starts_with('%') || (text.starts_with('(') && text.ends_with(')')) {
+                peeked.push(line);
+            } else {
+                next = Some(line);
+                break;
+            }
         }
+        if let Some(line) = next.take_if(|line| starts_a_program(String::from_utf8_lossy(line).trim())) {
+            self.peeked.extend(peeked);
+            self.peeked.push_back(line);
+            self.tape = Some(false);
+            return;
+        }
+        let mut left = peeked.iter().chain(&next).filter(|line| has_text(line)).count();
+        while let Ok(Some(_)) = self.lines.read(&mut self.raw) {
+            left += usize::from(has_text(&self.raw));
+        }
+        self.done = true;
         self.raw.clear();
         if left > 0 {
             let message = format!(
@@ -1030,6 +1079,10 @@ mod tests {
                 "4:1: warning: the program ends at this `%`, as LinuxCNC and Fanuc read a tape: 3 lines after it are not read"
             ]
         );
+        // What follows is another program (a Fanuc's store of programs): read on.
+        let got = tokens("%\nM98 P8000\nM30\n%\n\n( THE PROFILE )\n%\nO8000\nX2\nM99\n%");
+        assert_eq!(got.iter().filter(|t| t.contains("warning")).count(), 0, "{got:?}");
+        assert!(got.contains(&"8:1+5 O8000".to_string()) && got.contains(&"9:1+2 X2".to_string()), "{got:?}");
         // Not a tape: a `%` later on is only dropped.
         assert_eq!(tokens("X1\n%\nX2"), ["1:1+2 X1", "1:3+0 end", "2:2+0 end", "3:1+2 X2", "3:3+0 end"]);
     }
