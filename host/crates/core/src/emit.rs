@@ -119,6 +119,11 @@ impl Emitter {
                 self.axes(out, "XYZ", offsets);
                 self.value(out, 'R', *radius);
             }
+            Kind::SetToolTableFrom(from) => {
+                let _ = write!(out, "G10 L{} P{}", if from.fixture { 11 } else { 10 }, from.tool);
+                self.axes(out, "XYZ", &from.target);
+                self.value(out, 'R', from.radius);
+            }
             Kind::ToolLengthRegister(h) => {
                 let _ = write!(out, "H{h}");
             }

@@ -126,8 +126,8 @@ impl Snapshot {
         let to_program = machine_units.factor_to(self.program_units);
         let from_zero: [f64; 3] = std::array::from_fn(|axis| self.position[axis] - self.prz[axis]);
         // Along the coordinate system's own axes, turned back by its rotation.
-        let (sin, cos) = self.rotation.to_radians().sin_cos();
-        let program = [from_zero[0] * cos + from_zero[1] * sin, from_zero[1] * cos - from_zero[0] * sin, from_zero[2]];
+        let [x, y] = crate::geom::turn([from_zero[0], from_zero[1]], -self.rotation);
+        let program = [x, y, from_zero[2]];
         program.map(|v| v * to_program)
     }
 

@@ -31,7 +31,8 @@ impl Statement {
             Kind::Motion(m) | Kind::MachineMove(m) => motion(m),
             Kind::Offset { axes: a, .. } | Kind::Home { via: a, .. } => axes(a),
             Kind::SetWorkOffset { axes: a, rotation, .. } => axes(a) && value(rotation),
-            Kind::SetToolTable { offsets, radius, .. } => axes(offsets) && value(radius),
+            Kind::SetToolTable { offsets: a, radius, .. } => axes(a) && value(radius),
+            Kind::SetToolTableFrom(from) => axes(&from.target) && value(&from.radius),
             Kind::Cycle(c) => axes(&c.target) && value(&c.r) && value(&c.q) && value(&c.p) && value(&c.feed),
             Kind::Machine { s, .. } => s.is_none_or(f64::is_finite),
             Kind::Dwell(v) | Kind::SpindleSpeed(v) => v.is_finite(),
@@ -377,6 +378,25 @@ pub enum Retract {
     RPlane,
 }
 
+/// G10 L10 or L11: see [`Kind::SetToolTableFrom`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolTableFrom {
+    pub tool: u32,
+    pub target: Axes,
+    pub radius: Option<Value>,
+    /// L11: in G59.3's coordinates.
+    pub fixture: bool,
+    pub frame: Option<Frame>,
+}
+
+/// A coordinate system's place on the machine: its origin (machine
+/// coordinates) and its turn about it (degrees counter-clockwise in XY).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    pub origin: [f64; 3],
+    pub rotation: f64,
+}
+
 /// The lenient dialect's splines (LinuxCNC's), in the XY plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SplineCode {
@@ -467,6 +487,13 @@ pub enum Kind {
         offsets: Axes,
         radius: Option<Value>,
     },
+    /// G10 L10 and L11 (LinuxCNC, lenient dialect): tool `tool`'s entry is
+    /// set so that, once G43 applies it, the tool's position reads `target`
+    /// in the coordinate system in force (L10) or in G59.3's (L11, a
+    /// touch-off fixture's). Pass 02 tells which system that is (`frame`),
+    /// and pass 04 makes it the `SetToolTable` it comes to, from where the
+    /// machine is and the tool offsets.
+    SetToolTableFrom(Box<ToolTableFrom>),
     /// An H word with no G43/G44 (lenient dialect): a new register for the
     /// offset in force (Fanuc), or the offset applied as G43 (Fadal).
     ToolLengthRegister(u32),

@@ -13,6 +13,13 @@ pub fn polar_step(radius: f64, angle_degrees: f64) -> (f64, f64) {
     (radius * cos, radius * sin)
 }
 
+/// `v` turned by `degrees` counter-clockwise: a coordinate system's XY
+/// turned about its origin (G10 L2 R).
+pub fn turn(v: [f64; 2], degrees: f64) -> [f64; 2] {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    [v[0] * cos - v[1] * sin, v[0] * sin + v[1] * cos]
+}
+
 /// Why an R-form arc has no centre.
 #[derive(Debug, PartialEq)]
 pub enum RadiusArcError {

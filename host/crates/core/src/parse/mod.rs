@@ -14,7 +14,7 @@ use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
     Axes, Cycle, CycleCode, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference,
-    Retract, Side, Spline, SplineCode, Statement, Units, Value, WizardArg, MAX_NURBS_ORDER,
+    Retract, Side, Spline, SplineCode, Statement, ToolTableFrom, Units, Value, WizardArg, MAX_NURBS_ORDER,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
@@ -633,7 +633,15 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                 Some(2) => false,
                 Some(20) => true,
                 Some(1) => return tool_table_entry(words, span),
-                // LinuxCNC's L10, L11 (set from where the tool is) and Fanuc's L10-L13 write the tool table.
+                // LinuxCNC's L10 and L11 set an entry from where the tool is: they have axes.
+                Some(l @ (10 | 11)) if words.has_any("XYZ") => {
+                    let Kind::SetToolTable { tool, offsets, radius } = tool_table_entry(words, span)? else {
+                        unreachable!("a tool table entry")
+                    };
+                    let from = ToolTableFrom { tool, target: offsets, radius, fixture: l == 11, frame: None };
+                    return Ok(Kind::SetToolTableFrom(Box::new(from)));
+                }
+                // Fanuc's L10-L13 (and LinuxCNC's with no axis) write an H or D register's value.
                 Some(l @ 10..=13) => {
                     let tool = words.whole('P')?.map_or("a tool".to_string(), |p| format!("tool {p}"));
                     let message = format!(
@@ -691,7 +699,8 @@ fn tool_table_entry(words: &Words, span: Span) -> Result<Kind, Diagnostic> {
         Some(tool) if tool >= 1 => tool,
         _ => {
             let span = words.get('P').map_or(span, |p| p.span);
-            return Err(Diagnostic::error(span, "G10 L1 needs P, the tool whose entry it sets (1 or more)")
+            let l = words.whole('L')?.unwrap_or(1);
+            return Err(Diagnostic::error(span, format!("G10 L{l} needs P, the tool whose entry it sets (1 or more)"))
                 .with_help("G10 L1 P1 Z0 R3 sets tool 1's length offset to 0 and its radius to 3"));
         }
     };
@@ -1173,7 +1182,15 @@ mod tests {
             ["1:8: error: G10 L1 needs P, the tool whose entry it sets (1 or more)"]
         );
         assert_eq!(parsed_lenient("G10 L1 P1 R-1"), ["1:11: error: a tool's radius cannot be negative"]);
-        for (program, tool) in [("G10 L10 P2 Z0", "tool 2"), ("G10 L11 Z0", "a tool"), ("G10 L12 P1 R1", "tool 1")] {
+        assert!(parsed_lenient("G10 L10 P2 Z0")[0].starts_with(
+            "1:1 SetToolTableFrom(ToolTableFrom { tool: 2, target: Axes { x: None, y: None, z: Some(Value { value: 0.0"
+        ));
+        assert!(parsed_lenient("G10 L11 P2 X1")[0].contains("fixture: true"));
+        assert_eq!(
+            parsed_lenient("G10 L11 Z0"),
+            ["1:1: error: G10 L11 needs P, the tool whose entry it sets (1 or more)"]
+        );
+        for (program, tool) in [("G10 L10 P2 R1", "tool 2"), ("G10 L12 P1 R1", "tool 1")] {
             let got = &parsed_lenient(program)[0];
             assert!(got.contains(&format!("writes {tool}'s offsets into the controller's tool table")), "{got}");
         }

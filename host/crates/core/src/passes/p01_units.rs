@@ -66,6 +66,10 @@ impl Pass for Units {
                 *offsets = offsets.map(|_, v| v * factor);
                 scale(radius);
             }
+            Kind::SetToolTableFrom(from) => {
+                from.target = from.target.map(|_, v| v * factor);
+                scale(&mut from.radius);
+            }
             Kind::MachineMove(m) => {
                 m.target = m.target.map(|_, v| v * factor);
                 scale(&mut m.feed);

@@ -21,8 +21,9 @@
 use super::{Out, Pass};
 use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
+use crate::geom::turn;
 use crate::state::Probe;
-use crate::statement::{Axes, Dialect, Distance, Kind, MotionMode, Offset, Plane, Reference, Statement, Value};
+use crate::statement::{Axes, Dialect, Distance, Frame, Kind, MotionMode, Offset, Plane, Reference, Statement, Value};
 
 pub struct Offsets {
     /// G54..G59.3 and the extended offsets, in machine coordinates.
@@ -198,11 +199,8 @@ impl Offsets {
     }
 }
 
-/// `v` turned by `degrees` counter-clockwise.
-fn turn(v: [f64; 2], degrees: f64) -> [f64; 2] {
-    let (sin, cos) = degrees.to_radians().sin_cos();
-    [v[0] * cos - v[1] * sin, v[0] * sin + v[1] * cos]
-}
+/// G59.3's place in the table: LinuxCNC's touch-off fixture (G10 L11).
+const G59_3: usize = 8;
 
 impl Pass for Offsets {
     fn statement(&mut self, mut statement: Statement, out: &mut Out) {
@@ -275,6 +273,14 @@ impl Pass for Offsets {
                     Offset::G92Restore => self.set_prz(self.in_system(self.kept_g92), None),
                 }
                 return;
+            }
+            // The system the coordinates are in: the one in force (L10), or
+            // G59.3 (L11, whose G92 LinuxCNC leaves out).
+            Kind::SetToolTableFrom(from) => {
+                from.frame = Some(match from.fixture {
+                    true => Frame { origin: self.table[G59_3], rotation: self.rotations[G59_3] },
+                    false => Frame { origin: self.prz, rotation: self.rotation },
+                });
             }
             Kind::SetWorkOffset { entry, axes, relative, rotation } => {
                 if self.comp {

@@ -18,6 +18,7 @@ use crate::statement::{
 
 mod cycles;
 mod splines;
+mod tool_offsets;
 
 pub struct Absolute {
     units: Units,
@@ -48,6 +49,7 @@ pub struct Absolute {
     splines: splines::SplineState,
     /// G43 (true) or G44 (false) in force, for an H word given alone.
     tool_length: Option<bool>,
+    tool_offsets: tool_offsets::ToolOffsets,
     /// Where the A, B and C words have put the rotary axes, once said.
     rotary: [Option<f64>; 3],
     warned_rotary: bool,
@@ -77,6 +79,7 @@ impl Absolute {
             cycles: cycles::CycleState::default(),
             splines: splines::SplineState::new(config),
             tool_length: None,
+            tool_offsets: tool_offsets::ToolOffsets::default(),
             rotary: [None; 3],
             warned_rotary: false,
             warnings: Vec::new(),
@@ -349,7 +352,15 @@ impl Pass for Absolute {
     fn statement(&mut self, statement: Statement, out: &mut Out) {
         self.close_nurbs_before(&statement, out);
         let origin = statement.origin.clone();
+        let moves = match &statement.kind {
+            Kind::Motion(motion) | Kind::MachineMove(motion) => motion.moves(),
+            Kind::Home { .. } | Kind::Cycle(_) | Kind::Spline(_) | Kind::NurbsEnd => true,
+            _ => false,
+        };
         self.rewrite(statement, out);
+        if moves {
+            self.tool_offsets.moved();
+        }
         for warning in self.warnings.drain(..) {
             out.report(warning.with_origin(origin.clone()));
         }
@@ -420,8 +431,24 @@ impl Absolute {
             Kind::ToolLength { positive, h } => {
                 *h = h.or(Some(self.probe.borrow().tool));
                 self.tool_length = Some(*positive);
+                self.tool_offsets.apply(h.unwrap_or(0), *positive);
             }
-            Kind::ToolLengthCancel => self.tool_length = None,
+            Kind::ToolLengthCancel => {
+                self.tool_length = None;
+                self.tool_offsets.cancel();
+            }
+            Kind::SetToolTable { tool, offsets, .. } => {
+                self.tool_offsets.write(*tool, [0, 1, 2].map(|axis| offsets.get(axis).map(|v| v.value)));
+            }
+            Kind::SetToolTableFrom(from) => {
+                let frame = from.frame.expect("pass 02 says which coordinate system");
+                match self.tool_offsets.entry_from(from.tool, self.position, from.target, frame, statement.span) {
+                    Ok(offsets) => {
+                        statement.kind = Kind::SetToolTable { tool: from.tool, offsets, radius: from.radius }
+                    }
+                    Err(diagnostic) => return out.error(&statement, diagnostic),
+                }
+            }
             Kind::ToolLengthRegister(h) => {
                 let h = *h;
                 let positive = match (self.tool_length, h) {
