@@ -7,7 +7,7 @@
 //! a wall-clock limit would measure the machine's load). The results, by
 //! file and by source, are kept in `tests/corpus/RESULTS.md`; this test fails
 //! when they change (`UPDATE_EXPECT=1 cargo test --test corpus` rewrites the
-//! table, to review with `git diff`) and when fewer than 90% of the mill files
+//! table, to review with `git diff`) and when fewer than 95% of the mill files
 //! without macro programming translate.
 
 mod support;
@@ -123,7 +123,7 @@ fn the_corpus_translates_or_is_refused_cleanly() {
         std::fs::write(&results, &table).unwrap();
     }
     assert!(broken.is_empty(), "ger broke on corpus files:\n{}", broken.join("\n"));
-    assert!(percent >= 90.0, "only {percent:.1}% of the mill files translate ({mills_translated} of {mills})");
+    assert!(percent >= 95.0, "only {percent:.1}% of the mill files translate ({mills_translated} of {mills})");
     let committed = std::fs::read_to_string(&results).unwrap_or_default();
     assert!(
         committed == table,
