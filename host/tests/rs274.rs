@@ -150,11 +150,18 @@ fn rs274_arcs_in_every_plane_and_feeds_in_their_unit() {
     let all: Vec<&rs274::Move> = moves.iter().collect();
     assert_eq!(all[0].kind, Kind::Arc { centre: [1.0, 0.0, 0.0], turn: -1 });
     assert_close(&[all[0].end.unwrap()], &[[2.0, 5.0, 1.0]]);
-    assert_eq!(all[1].kind, Kind::Arc { centre: [0.0, 0.0, 0.0], turn: 2 });
-    assert_close(&[all[1].end.unwrap()], &[[0.0, 25.4, 0.0]]);
+    // Turn 2: once round about the centre (back to Y5 Z1), then on to the
+    // end, ger's way of writing it. From angle atan(1/5) (Y5 Z1) to 0 (Y25.4
+    // Z0) counter-clockwise, then a whole turn: X, the helix, falls from 2 to
+    // 0 over 2π - atan(0.2) + 2π, 2π of it in the first turn.
+    assert_eq!(all[1].kind, Kind::Arc { centre: [0.0, 0.0, 0.0], turn: 1 });
+    let tau = std::f64::consts::TAU;
+    assert_close(&[all[1].end.unwrap()], &[[2.0 - 2.0 * tau / (2.0 * tau - 0.2f64.atan()), 5.0, 1.0]]);
+    assert_eq!(all[2].kind, Kind::Arc { centre: [0.0, 0.0, 0.0], turn: 1 });
+    assert_close(&[all[2].end.unwrap()], &[[0.0, 25.4, 0.0]]);
     // F10 in mm holds after G20 until F is given again, in inches.
     let feeds: Vec<Option<f64>> = all.iter().map(|m| m.feed).collect();
-    assert_eq!(feeds, [Some(10.0), Some(10.0), Some(254.0)]);
+    assert_eq!(feeds, [Some(10.0), Some(10.0), Some(10.0), Some(254.0)]);
 }
 
 #[test]

@@ -164,6 +164,36 @@ impl Moves {
         self.moves.push(m);
     }
 
+    /// A move; an arc going round more than once (`G02 ... P3`, which rs274
+    /// prints as one ARC_FEED of turn -3) as its full turns about its centre
+    /// and then the arc to its end, each taking its share of the helix, as
+    /// ger writes it.
+    fn push_turns(&mut self, m: Move, [a, b, normal]: [usize; 3]) {
+        let (Kind::Arc { centre, turn }, Some(start), Some(end)) = (m.kind.clone(), self.at, m.end) else {
+            return self.push(m);
+        };
+        if turn.abs() <= 1 {
+            return self.push(m);
+        }
+        let tau = std::f64::consts::TAU;
+        let angle = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
+        let closed = (start[a] - end[a]).hypot(start[b] - end[b]) < 1e-9;
+        let sweep = match (closed, turn > 0) {
+            (true, _) => tau,
+            (false, true) => (angle(end) - angle(start)).rem_euclid(tau),
+            (false, false) => (angle(start) - angle(end)).rem_euclid(tau),
+        };
+        let extra = turn.abs() - 1;
+        let whole = sweep + tau * f64::from(extra);
+        for k in 1..=extra {
+            let mut through = start;
+            through[normal] = start[normal] + (end[normal] - start[normal]) * tau * f64::from(k) / whole;
+            let kind = Kind::Arc { centre, turn: turn.signum() };
+            self.push(Move { kind, end: Some(through), ..m.clone() });
+        }
+        self.push(Move { kind: Kind::Arc { centre, turn: turn.signum() }, ..m });
+    }
+
     /// Notes that a number was printed with `decimals` decimals, in a unit
     /// of `mm_per_unit` mm.
     fn printed(&mut self, decimals: usize, mm_per_unit: f64) {
@@ -348,7 +378,8 @@ impl Moves {
                         None if per_revolution => feed.map(|f| f * speed),
                         None => feed,
                     };
-                    moves.push(Move { kind, end: Some(end), feed: rate, start: None, line, text: call.to_string() });
+                    let m = Move { kind, end: Some(end), feed: rate, start: None, line, text: call.to_string() };
+                    moves.push_turns(m, plane.axes());
                 }
                 _ => {}
             }

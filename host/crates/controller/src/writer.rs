@@ -323,6 +323,7 @@ impl Writer {
                 centre: Default::default(),
                 radius: None,
                 feed: if i == 0 { m.feed } else { None },
+                turns: None,
             };
             self.plain(statement, &line, out, notes);
         }

@@ -124,7 +124,23 @@ pub struct Motion {
     pub centre: Axes,
     pub radius: Option<Value>,
     pub feed: Option<Value>,
+    /// An arc's turns (lenient dialect): LinuxCNC's P, the times it goes
+    /// round before it ends (its helix spread over them), or Haas's and
+    /// Fadal's L, the times the whole block runs. None is once.
+    pub turns: Option<Turns>,
 }
+
+/// How an arc goes round more than once: see [`Motion::turns`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Turns {
+    /// `P n`: one arc going round n times.
+    Around(u32),
+    /// `L n`: the block n times, each from where the last ended.
+    Repeated(u32),
+}
+
+/// The most turns an arc may take: each becomes a move of the output.
+pub const MAX_TURNS: u32 = 10_000;
 
 impl Motion {
     /// A statement with only F in it sets the feed and moves nothing.

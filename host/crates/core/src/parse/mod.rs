@@ -14,7 +14,8 @@ use crate::diag::{Diagnostic, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
     Axes, Cycle, CycleCode, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference,
-    Retract, Side, Spline, SplineCode, Statement, ToolTableFrom, Units, Value, WizardArg, MAX_NURBS_ORDER,
+    Retract, Side, Spline, SplineCode, Statement, ToolTableFrom, Turns, Units, Value, WizardArg, MAX_NURBS_ORDER,
+    MAX_TURNS,
 };
 
 // Statements are the hot path: boxing them would cost an allocation each.
@@ -303,10 +304,15 @@ impl<L> Parser<L> {
 /// Which words each kind of statement takes.
 const MOTION_WORDS: &str = "XYZF";
 const ARC_WORDS: &str = "XYZIJKRF";
+/// With LinuxCNC's turns (P) and Haas's repeats (L).
+const LENIENT_ARC_WORDS: &str = "XYZIJKRFPL";
 
 /// The words each code takes, by its number times ten (G61.1 is 611); `None`
 /// for a code the dialect does not know.
 fn words_of(letter: char, number: u32, dialect: Dialect) -> Option<&'static str> {
+    if dialect == Dialect::Lenient && letter == 'G' && (number == 20 || number == 30) {
+        return Some(LENIENT_ARC_WORDS);
+    }
     let strict = match (letter, number) {
         ('G', 0 | 10) => Some("XYZF"),
         ('G', 20 | 30) => Some(ARC_WORDS),
@@ -458,8 +464,10 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
         }
         ('G', 20) | ('G', 30) => {
             let mode = if number == 20 { MotionMode::ArcCw } else { MotionMode::ArcCcw };
-            words.only(ARC_WORDS, &name)?;
-            Kind::Motion(Box::new(motion(Some(mode), words, dialect)?))
+            words.only(if dialect == Dialect::Lenient { LENIENT_ARC_WORDS } else { ARC_WORDS }, &name)?;
+            let mut arc = motion(Some(mode), words, dialect)?;
+            arc.turns = turns(words, &name)?;
+            Kind::Motion(Box::new(arc))
         }
         ('G', 150) => no_words(Kind::Polar(false))?,
         ('G', 160) => no_words(Kind::Polar(true))?,
@@ -864,6 +872,23 @@ fn lenient_refusal(letter: char, number: u32, name: &str, span: Span) -> Diagnos
     Diagnostic::error(span, format!("{name} is not accepted: {why}"))
 }
 
+/// An arc's P (LinuxCNC's turns) or L (Haas's and Fadal's repeats).
+fn turns(words: &Words, name: &str) -> Result<Option<Turns>, Diagnostic> {
+    let (p, l) = (words.get('P'), words.get('L'));
+    if let (Some(_), Some(l)) = (p, l) {
+        return Err(Diagnostic::error(
+            l.span,
+            format!("{name} takes P (turns, LinuxCNC) or L (repeats, Haas), not both"),
+        ));
+    }
+    let Some(word) = p.or(l) else { return Ok(None) };
+    let letter = if p.is_some() { 'P' } else { 'L' };
+    let times = words.whole(letter)?.filter(|n| (1..=MAX_TURNS).contains(n)).ok_or_else(|| {
+        Diagnostic::error(word.span, format!("{letter} on {name} is the times it goes round: 1 to {MAX_TURNS}"))
+    })?;
+    Ok(Some(if p.is_some() { Turns::Around(times) } else { Turns::Repeated(times) }))
+}
+
 fn motion(mode: Option<MotionMode>, words: &Words, dialect: Dialect) -> Result<Motion, Diagnostic> {
     let motion = Motion {
         mode,
@@ -871,6 +896,7 @@ fn motion(mode: Option<MotionMode>, words: &Words, dialect: Dialect) -> Result<M
         centre: words.axes("IJK"),
         radius: words.get('R'),
         feed: words.get('F'),
+        turns: None,
     };
     if let (Some(r), false) = (motion.radius, motion.centre.is_empty()) {
         return Err(Diagnostic::error(r.span, "an arc takes either R or I/J/K, not both")

@@ -13,7 +13,8 @@ use crate::diag::{Diagnostic, Span};
 use crate::geom::{arc_sweep, centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
 use crate::statement::{
-    Axes, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Units, Value,
+    Axes, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Turns, Units,
+    Value,
 };
 
 mod cycles;
@@ -390,6 +391,19 @@ impl Absolute {
     }
 
     fn rewrite(&mut self, mut statement: Statement, out: &mut Out) {
+        if let Kind::Motion(motion) = &mut statement.kind {
+            match motion.turns.take() {
+                // Haas's and Fadal's L: the block again, from where it ended.
+                Some(Turns::Repeated(times)) => {
+                    for _ in 0..times {
+                        self.rewrite(statement.clone(), out);
+                    }
+                    return;
+                }
+                Some(Turns::Around(turns)) if turns > 1 => return self.arc_around(statement, turns, out),
+                _ => {}
+            }
+        }
         if let Kind::Cycle(cycle) = &statement.kind {
             if let Err(diagnostic) = self.cycle(cycle, &statement) {
                 out.error(&statement, diagnostic);
@@ -549,6 +563,40 @@ impl Absolute {
         out.push(statement);
     }
 
+    /// LinuxCNC's `G02 ... P n`: the arc goes round n - 1 more times before
+    /// it ends, its helix spread evenly over the whole turn. It comes out as
+    /// n - 1 full circles about its centre and then the arc as written, each
+    /// descending its share.
+    fn arc_around(&mut self, statement: Statement, turns: u32, out: &mut Out) {
+        let start = self.position;
+        let mut arc = statement.clone();
+        let Kind::Motion(motion) = &mut arc.kind else { unreachable!("an arc's turns") };
+        match self.motion(motion, statement.span) {
+            Ok(true) => {}
+            Ok(false) => return,
+            Err(diagnostic) => return out.error(&statement, diagnostic),
+        }
+        let end = self.position;
+        let (a, b, normal) = self.plane.axes();
+        let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
+        let centre = (start[a] + offset(a), start[b] + offset(b));
+        let ccw = motion.mode == Some(MotionMode::ArcCcw);
+        let (_, sweep) = arc_sweep((start[a], start[b]), (end[a], end[b]), centre, ccw);
+        let whole = sweep.abs() + std::f64::consts::TAU * f64::from(turns - 1);
+        let mut feed = motion.feed.take();
+        for turn in 1..turns {
+            let mut circle =
+                Motion { mode: motion.mode, centre: motion.centre, feed: feed.take(), ..Motion::default() };
+            let depth = start[normal] + (end[normal] - start[normal]) * std::f64::consts::TAU * f64::from(turn) / whole;
+            for (axis, value) in [(a, start[a]), (b, start[b]), (normal, depth)] {
+                *circle.target.slot(axis) = Some(Value { value, span: statement.span });
+            }
+            out.push(statement.with_kind(Kind::Motion(Box::new(circle))));
+        }
+        motion.feed = feed;
+        out.push(arc);
+    }
+
     /// A rapid move to `target` (machine coordinates), if it goes anywhere.
     fn rapid_to(&mut self, target: [f64; 3], statement: &Statement, out: &mut Out) {
         self.move_to(MotionMode::Rapid, target, statement, out);
@@ -624,6 +672,47 @@ mod tests {
         let got = run("G00 X1\nG02 I-1 Z-0.25 F5", 4);
         assert_eq!(got[1], "G02 X1.0000 Y0.0000 Z-0.2500 I-1.0000 J0.0000 F5.0000");
         assert_eq!(run("G00 X1\nG02 X1 R1 F5", 4)[1], "2:8: error: a full circle cannot be given with R");
+    }
+
+    #[test]
+    fn an_arc_goes_round_p_times_or_runs_l_times() {
+        use crate::statement::Dialect;
+        let lenient = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        // LinuxCNC's P3: from (10, 0) a half circle about the origin to
+        // (-10, 0) going round two more times, Z 0 to -5 over 2.5 turns:
+        // each full turn takes 2 mm, the half turn the last 1 mm.
+        let got = run_with(
+            "G0 X10
+G03 X-10 I-10 Z-5 P3 F100",
+            &lenient,
+            4,
+        );
+        assert_eq!(
+            got[1..],
+            [
+                "G03 X10.000 Y0.000 Z-2.000 I-10.000 J0.000 F100.000",
+                "G03 X10.000 Y0.000 Z-4.000 I-10.000 J0.000",
+                "G03 X-10.000 Y0.000 Z-5.000 I-10.000 J0.000",
+            ]
+        );
+        // Haas's and Fadal's L3 in G91: a full circle dropping 0.2 mm, three times.
+        let got = run_with(
+            "G0 X10
+G91 G02 I-10 Z-0.2 L3 F100",
+            &lenient,
+            4,
+        );
+        assert_eq!(
+            got[1..],
+            [
+                "G02 X10.000 Y0.000 Z-0.200 I-10.000 J0.000 F100.000",
+                "G02 X10.000 Y0.000 Z-0.400 I-10.000 J0.000",
+                "G02 X10.000 Y0.000 Z-0.600 I-10.000 J0.000",
+            ]
+        );
+        assert!(run_with("G02 I1 P0 F1", &lenient, 4)[0].ends_with("P on G02 is the times it goes round: 1 to 10000"));
+        assert!(run_with("G02 I1 P2 L2 F1", &lenient, 4)[0]
+            .contains("takes P (turns, LinuxCNC) or L (repeats, Haas), not both"));
     }
 
     #[test]

@@ -167,6 +167,9 @@ mod tests {
     fn an_offset_the_controller_holds_leaves_l10_unknown() {
         let got = entries("T2 M6\nG43 H2\nG0 Z1\nG10 L10 P2 Z0");
         assert_eq!(got.len(), 1);
-        assert!(got[0].contains("with the offset of entry 2 in force, which the controller's tool table holds"), "{got:?}");
+        assert!(
+            got[0].contains("with the offset of entry 2 in force, which the controller's tool table holds"),
+            "{got:?}"
+        );
     }
 }

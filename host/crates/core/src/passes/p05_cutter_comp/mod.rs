@@ -300,6 +300,7 @@ impl CutterComp {
                 },
                 radius: None,
                 feed: held.feed,
+                turns: None,
             },
             _ if path.length() < self.resolution / 2.0 && held.z.is_none() => {
                 if held.feed.is_some() {
