@@ -141,7 +141,7 @@ pub struct Lexer<R> {
 }
 
 /// How many blank, `%` and comment lines are looked past after a tape's end
-/// for another program.
+/// for another program (and no more than [`MAX_LINE`] bytes of them).
 const MAX_PEEKED: usize = 1000;
 
 /// Whether a line (trimmed) starts a program of its own: `O8000`, or a
@@ -902,11 +902,13 @@ impl<R: BufRead> Lexer<R> {
     fn end_of_tape(&mut self) {
         let at = self.line_no;
         let has_text = |line: &[u8]| line.iter().any(|b| !b.is_ascii_whitespace());
-        let mut peeked = Vec::new();
+        let mut peeked: Vec<Vec<u8>> = Vec::new();
+        let mut bytes = 0;
         let mut next = None;
-        while peeked.len() < MAX_PEEKED {
+        while peeked.len() < MAX_PEEKED && bytes < MAX_LINE {
             let Ok(Some(_)) = self.lines.read(&mut self.raw) else { break };
             let line = std::mem::take(&mut self.raw);
+            bytes += line.len();
             let text = String::from_utf8_lossy(&line);
             let text = text.trim();
             if text.is_empty() || text.starts_with('%') || (text.starts_with('(') && text.ends_with(')')) {
