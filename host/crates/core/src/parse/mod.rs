@@ -464,6 +464,11 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
         }
         ('G', 20) | ('G', 30) => {
             let mode = if number == 20 { MotionMode::ArcCw } else { MotionMode::ArcCcw };
+            if let Some(word) = words.get('P').or(words.get('L')).filter(|_| dialect == Dialect::Strict) {
+                let message = format!("{name} goes round once: P and L are not allowed with it");
+                let help = "--lenient reads P (LinuxCNC's turns) and L (Haas's repeats) on an arc";
+                return Err(Diagnostic::error(word.span, message).with_help(help));
+            }
             words.only(if dialect == Dialect::Lenient { LENIENT_ARC_WORDS } else { ARC_WORDS }, &name)?;
             let mut arc = motion(Some(mode), words, dialect)?;
             arc.turns = turns(words, &name)?;
@@ -952,6 +957,10 @@ fn stray_word(words: &Words) -> Diagnostic {
     let (message, help) = match letter {
         'S' => ("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000, or run with --lenient"),
         'T' => ("a T word (tool number) goes with M06", "write e.g. M06 T2, or run with --lenient"),
+        'L' if words.list.len() == 1 => (
+            "an L word alone goes with no code",
+            "write e.g. M98 P100 L2; --lenient reads Fadal's L0100 ... M17 subroutines and their L0102 calls",
+        ),
         'P' | 'L' => ("P and L words go with M98", "write e.g. M98 P100 L2"),
         'H' => ("an H word goes with G43 or G44", "write e.g. G43 H1, or run with --lenient"),
         'E' => ("an E word is Fadal's fixture offset", "write G54 to G59 instead, or run with --lenient"),
