@@ -660,6 +660,28 @@ fn ger(args: &[&str], stdin: &str, target_dir: &Path) -> (String, String, i32) {
 }
 
 #[test]
+fn a_wizard_may_not_be_named_like_a_macro_keyword() {
+    // `While 3` and `Sin 30` read as macro B and an expression, never as calls.
+    let dir = tempfile::tempdir().unwrap();
+    let wizards = dir.path().to_str().unwrap();
+    let target = repo("tests/wizards/guests/target/cargo");
+    for name in ["While", "Goto", "Sin", "Round"] {
+        let (_, err, status) = ger(&["wizard", "new", name, "--wizards", wizards], "", &target);
+        assert_eq!(status, 1, "{name}");
+        assert!(err.contains(&format!("`{name}` cannot be a wizard's name")), "{err}");
+        assert!(!dir.path().join(name.to_ascii_lowercase()).exists());
+    }
+    // One made by hand is neither built nor listed as callable.
+    std::fs::create_dir(dir.path().join("round")).unwrap();
+    std::fs::write(dir.path().join("round/app.py"), "").unwrap();
+    let (_, err, status) = ger(&["wizard", "build", "round", "--wizards", wizards], "", &target);
+    assert_eq!((status, err.contains("`round` cannot be a wizard's name")), (1, true), "{err}");
+    let (out, _, status) = ger(&["wizard", "list", "--no-build", "--wizards", wizards], "", &target);
+    assert_eq!(status, 1);
+    assert!(out.contains("named like a macro keyword: no program can call it"), "{out}");
+}
+
+#[test]
 fn a_new_wizard_builds_and_runs_unchanged_and_is_listed() {
     let dir = tempfile::tempdir().unwrap();
     let wizards = dir.path().to_str().unwrap();

@@ -100,6 +100,10 @@ fn build_named(names: &[String], dir: &Path) -> Result<i32> {
         let catalog = scan(dir)?;
         for entry in catalog.entries() {
             if let Some(source) = &entry.source {
+                if ger_core::lex::is_reserved_name(&entry.name) {
+                    eprintln!("skipped {}: named like a macro keyword, no program can call it", entry.name);
+                    continue;
+                }
                 targets.push((source.clone(), entry.wasm.clone(), dir.to_path_buf()));
             }
         }
@@ -110,6 +114,9 @@ fn build_named(names: &[String], dir: &Path) -> Result<i32> {
     for name in names {
         let path = Path::new(name);
         if let Some(source) = Source::detect(path).filter(|_| path.is_dir()) {
+            if let Some(file) = path.file_name() {
+                refuse_reserved(&file.to_string_lossy())?;
+            }
             // A folder given by path is built into NAME.wasm beside it.
             let folder = source.dir.canonicalize().unwrap_or_else(|_| source.dir.clone());
             let parent = folder.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
@@ -117,6 +124,7 @@ fn build_named(names: &[String], dir: &Path) -> Result<i32> {
             targets.push((source, parent.join(format!("{file}.wasm")), parent));
             continue;
         }
+        refuse_reserved(name)?;
         let catalog = scan(dir)?;
         match catalog.find(name).and_then(|e| Some((e.source.clone()?, e.wasm.clone()))) {
             Some((source, wasm)) => targets.push((source, wasm, dir.to_path_buf())),
@@ -160,6 +168,14 @@ fn list(dir: &Path, no_build: bool) -> Result<i32> {
     }
     for entry in catalog.entries() {
         let language = entry.source.as_ref().map_or("prebuilt", |s| s.language.name());
+        if ger_core::lex::is_reserved_name(&entry.name) {
+            failed += 1;
+            println!(
+                "{:<40} ({}, {language}, named like a macro keyword: no program can call it)",
+                entry.name, entry.name
+            );
+            continue;
+        }
         if no_build && !entry.wasm.exists() {
             println!("{:<40} ({}, {language}, not built)", entry.name, entry.name);
             continue;
@@ -188,11 +204,22 @@ fn list(dir: &Path, no_build: bool) -> Result<i32> {
     Ok(i32::from(failed > 0))
 }
 
+/// A name no program could call a wizard by: one of the macro keywords or
+/// expression functions the lenient dialect reads (`If`, `While`, `Sin`).
+fn refuse_reserved(name: &str) -> Result<()> {
+    if ger_core::lex::is_reserved_name(name) {
+        let help = "a program reads it as a macro keyword or function, never as a wizard call: choose another name";
+        return Err(with_help(format!("`{name}` cannot be a wizard's name"), help));
+    }
+    Ok(())
+}
+
 fn new(name: &str, lang: Lang, dir: &Path) -> Result<i32> {
     if name.len() < 2 || !name.chars().all(|c| c.is_ascii_alphabetic()) {
         let help = "a program calls a wizard by a word of two or more letters, e.g. `Slot 40 3`";
         return Err(with_help(format!("`{name}` cannot be a wizard's name"), help));
     }
+    refuse_reserved(name)?;
     let folder = dir.join(name.to_ascii_lowercase());
     if folder.exists() {
         bail!("{} already exists", folder.display());

@@ -69,6 +69,9 @@ pub enum Macro {
     Goto(Expr),
     /// The `N` number that starts a line: where a `GOTO` may jump to.
     Label(f64),
+    /// A wizard call's argument that is an expression or a parameter:
+    /// `Pocket [#1 * 2] #<depth> 10`, evaluated before the call.
+    Argument(Expr),
 }
 
 /// The text of every line a lexer has read, kept (lenient dialect) so that
@@ -417,6 +420,9 @@ impl<R: BufRead> Lexer<R> {
                     pos = bytes.len();
                 }
                 b'"' if in_wizard_args => pos = self.string(text, pos),
+                _ if in_wizard_args && self.lenient && is_argument_expression(&text[pos..]) => {
+                    pos = self.argument_expression(text, pos)
+                }
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
                 b'o' | b'O' if self.lenient && control::head(&text[pos..]).is_some() => pos = self.control(text, pos),
                 _ if c.is_ascii_alphabetic() => {
@@ -779,6 +785,20 @@ impl<R: BufRead> Lexer<R> {
         text[start..].find('(').map_or(text.len(), |i| start + i)
     }
 
+    /// A wizard argument that is an expression (lenient dialect): its value
+    /// is worked out by the interpreter stage before the call.
+    fn argument_expression(&mut self, text: &str, start: usize) -> usize {
+        let mut reader = Reader::new(text, start, self.line_no);
+        match reader.value() {
+            Ok(value) => {
+                let span = self.span(start, reader.pos - start);
+                self.pending.push_back(Piece::Macro(Macro::Argument(value), span));
+                reader.pos
+            }
+            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
+        }
+    }
+
     fn wizard_number(&mut self, text: &str, start: usize) -> usize {
         let len = text[start..]
             .find(|c: char| c.is_whitespace() || c == ';' || c == '(' || c == '"')
@@ -821,6 +841,13 @@ enum Unsupported {
 }
 use Unsupported::*;
 
+/// Whether a program could not call a wizard of this name: it is a
+/// keyword of Fanuc's macro B or LinuxCNC's O-words (`If`, `Do`, `End`), or
+/// the name of a function of their expressions (`Sin`, `Round`).
+pub fn is_reserved_name(name: &str) -> bool {
+    is_control_flow(name) || expr::is_function(name)
+}
+
 /// Fanuc macro B's and LinuxCNC's O-word control-flow keywords, maybe with a
 /// number glued on (`GOTO10`, `END1`).
 fn is_control_flow(name: &str) -> bool {
@@ -846,6 +873,13 @@ fn is_control_flow(name: &str) -> bool {
     ];
     let word = name.trim_end_matches(|c: char| c.is_ascii_digit()).to_ascii_uppercase();
     KEYWORDS.contains(&word.as_str())
+}
+
+/// Whether a wizard argument is an expression: `[...]`, a parameter, or
+/// a function (with a sign before it, maybe), not a number or a string.
+fn is_argument_expression(rest: &str) -> bool {
+    let rest = rest.strip_prefix(['-', '+']).unwrap_or(rest);
+    rest.starts_with(['[', '#']) || is_function_value(rest)
 }
 
 /// Whether `rest` starts with a function's name and `[`: `SIN[30]`.

@@ -803,6 +803,10 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                     Ok(_) => {}
                     Err(diagnostic) => failed = Some(diagnostic),
                 },
+                Piece::Macro(Macro::Argument(value), span) => match self.evaluate(value, *span) {
+                    Ok(value) => tokens.push(Token { kind: TokenKind::Number(value), span: *span }),
+                    Err(diagnostic) => failed = Some(diagnostic),
+                },
                 Piece::Macro(Macro::Goto(target), span) => {
                     match self.evaluate(target, *span).and_then(|n| label(n, *span)) {
                         Ok(label) => jump = Some((label, *span)),

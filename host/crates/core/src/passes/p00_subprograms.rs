@@ -817,18 +817,20 @@ mod tests {
         use crate::parse::{parse, Event};
         use crate::passes::{translate, Library, Options};
         use crate::state::{CallState, Spindle};
-        use crate::statement::{Distance, Statement, Units};
+        use crate::statement::{Distance, Statement, Units, WizardArg};
         use crate::wizard::{Call, Wizards};
 
         /// Records what it is told and answers with the G-code text it is given.
         struct Fake {
             seen: Vec<CallState>,
+            args: Vec<Vec<WizardArg>>,
             answer: &'static str,
         }
 
         impl Wizards for Fake {
-            fn expand(&mut self, _: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic> {
+            fn expand(&mut self, call: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic> {
                 self.seen.push(state.clone());
+                self.args.push(call.args.to_vec());
                 Ok(parse(lex_str(self.answer))
                     .map(|e| match e {
                         Event::Statement(s) => s,
@@ -851,8 +853,32 @@ mod tests {
         }
 
         #[test]
+        fn a_wizards_arguments_may_be_expressions_worked_out_before_the_call() {
+            // Lenient: `[#1 * 2]` with #1 = 5 is 10, `#<depth>` -1.5, `-SQRT[16]` -4, a string stays one.
+            let mut fake = Fake { seen: Vec::new(), args: Vec::new(), answer: "G01 X1 F100" };
+            let config = Config { dialect: crate::statement::Dialect::Lenient.into(), ..Config::default() };
+            let options = Options { config: &config, stage: 5, wizards: &mut fake };
+            let program = "#1 = 5\n#<depth> = -1.5\nPocket [#1 * 2] #<depth> -SQRT[16] \"A\" 3\nM30";
+            let errors: Vec<String> = translate(program.as_bytes(), Library::empty(), options)
+                .filter_map(|e| match e {
+                    Event::Diagnostic(d) => Some(d.to_string()),
+                    Event::Statement(_) => None,
+                })
+                .collect();
+            assert!(errors.is_empty(), "{errors:?}");
+            let expected = [
+                WizardArg::Number(10.0),
+                WizardArg::Number(-1.5),
+                WizardArg::Number(-4.0),
+                WizardArg::Text("A".into()),
+                WizardArg::Number(3.0),
+            ];
+            assert_eq!(fake.args, [expected.to_vec()]);
+        }
+
+        #[test]
         fn a_wizard_sees_the_state_at_its_call_in_program_terms() {
-            let mut fake = Fake { seen: Vec::new(), answer: "G01 X1 F100" };
+            let mut fake = Fake { seen: Vec::new(), args: Vec::new(), answer: "G01 X1 F100" };
             let program = "G21\nG52 X25.4\nG00 X10 Y5 Z2\nM03 S1200\nG91\nProbe 1\nM30";
             let got = run(program, &mut fake);
             let state = &fake.seen[0];
@@ -870,11 +896,11 @@ mod tests {
         #[test]
         fn m99_or_o_in_a_wizards_output_is_an_error_at_the_call() {
             let chain = r#"["in wizard `Rewind` called at line 1"]"#;
-            let mut fake = Fake { seen: Vec::new(), answer: "G01 X1 F10\nM99\nG01 X2" };
+            let mut fake = Fake { seen: Vec::new(), args: Vec::new(), answer: "G01 X1 F10\nM99\nG01 X2" };
             let got = run("Rewind\nM30", &mut fake);
             let error = format!("1:1: error: M99 in the output of wizard `Rewind` {chain}");
             assert_eq!(got, ["N1 G01 X1.0000 F10.0000", &error, "N2 M30"]);
-            let mut fake = Fake { seen: Vec::new(), answer: "O100\nX3\nM99" };
+            let mut fake = Fake { seen: Vec::new(), args: Vec::new(), answer: "O100\nX3\nM99" };
             let got = run("Rewind\nM30", &mut fake);
             let error = format!(
                 "1:1: error: O100 in the output of wizard `Rewind`: a wizard cannot define a subprogram {chain}"
@@ -884,7 +910,7 @@ mod tests {
 
         #[test]
         fn runaway_wizard_recursion_is_an_error() {
-            let mut fake = Fake { seen: Vec::new(), answer: "Again" };
+            let mut fake = Fake { seen: Vec::new(), args: Vec::new(), answer: "Again" };
             let got = run("Again\nM30", &mut fake);
             assert_eq!(fake.seen.len(), 16);
             assert!(got[0].starts_with("1:1: error: wizard calls nest deeper than 16"), "{got:?}");
