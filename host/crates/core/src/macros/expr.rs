@@ -387,6 +387,13 @@ impl Expr {
 
 /// A parameter's number: the value of `index`, which must be whole.
 pub fn number(index: &Expr, params: &dyn Parameters, at: Span) -> Result<u32, Diagnostic> {
+    // Most are written as numbers (`#3`): those need no rounding.
+    if let Expr::Number(value) = index {
+        let whole = *value as u32;
+        if f64::from(whole) == *value && whole <= LAST_PARAMETER {
+            return Ok(whole);
+        }
+    }
     whole_number(index.eval(params)?, index.span().unwrap_or(at))
 }
 

@@ -206,17 +206,19 @@ impl Parameters for Store {
         if number == expr::VACANT {
             return Ok(0.0);
         }
-        let reads_place = matches!(number, 4001..=4130 | 5001..=5003 | 5021..=5023 | 5041..=5043 | 5220 | 5420..=5422);
-        let set_by_program = self.numbered.contains_key(&number);
-        if let (Some(position), true, false) = (&self.position, reads_place, set_by_program) {
-            if let Some(value) = place_parameter(&position(), number, at)? {
-                return Ok(value);
-            }
-        }
-        system_parameter(number, at)?;
+        // Locals first: most reads are theirs, in loops.
         if number as usize <= LOCALS {
             return Ok(self.levels.last().map_or(0.0, |level| level.numbered[number as usize - 1]));
         }
+        let reads_place = matches!(number, 4001..=4130 | 5001..=5003 | 5021..=5023 | 5041..=5043 | 5220 | 5420..=5422);
+        if let (Some(position), true) = (&self.position, reads_place) {
+            if !self.numbered.contains_key(&number) {
+                if let Some(value) = place_parameter(&position(), number, at)? {
+                    return Ok(value);
+                }
+            }
+        }
+        system_parameter(number, at)?;
         // An unset numbered parameter reads as 0, as in LinuxCNC.
         Ok(self.numbered.get(&number).copied().unwrap_or(0.0))
     }
@@ -451,6 +453,9 @@ pub struct Interpreter<'a, L> {
     ended: bool,
     /// Fadal subroutines (`L0100` ... `M17`) have been defined.
     fadal_subroutines: bool,
+    /// `run_line`'s buffers, kept from line to line.
+    line_tokens: Vec<Token>,
+    line_assignments: Vec<(Target, f64, Span)>,
     /// A line of the main program with words other than its O number has run.
     ran_code: bool,
 }
@@ -501,6 +506,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             local_lines: Vec::new(),
             ended: false,
             fadal_subroutines: false,
+            line_tokens: Vec::new(),
+            line_assignments: Vec::new(),
             ran_code: false,
         }
     }
@@ -774,8 +781,11 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             let (number, level) = (line.number(), self.store.levels.len());
             self.goto_loops.retain(|jump| jump.level != level || (jump.target..=jump.site).contains(&number));
         }
-        let mut tokens = Vec::with_capacity(line.items.len());
-        let mut assignments = Vec::new();
+        // The buffers of the line before: a loop runs lines by the million.
+        let mut tokens = std::mem::take(&mut self.line_tokens);
+        let mut assignments = std::mem::take(&mut self.line_assignments);
+        tokens.clear();
+        assignments.clear();
         let mut failed = None;
         let mut skipped = false;
         let mut jump = None;
@@ -854,7 +864,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                     }
                     _ => true,
                 };
-                for token in tokens.into_iter().filter(kept) {
+                for token in tokens.drain(..).filter(kept) {
                     self.emit(token);
                 }
                 if let Some(&(_, _, span)) =
@@ -863,11 +873,12 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                     // Fanuc's #3006 = n (MESSAGE): a stop with the message, which the line's comment carries.
                     self.emit(Token { kind: TokenKind::Word { letter: 'M', value: 0.0 }, span });
                 }
-                for (target, value, _) in assignments {
+                for (target, value, _) in assignments.drain(..) {
                     self.store.set(target, value);
                 }
             }
         }
+        (self.line_tokens, self.line_assignments) = (tokens, assignments);
         if let Some(end) = line.end.clone() {
             self.emit(end);
         }

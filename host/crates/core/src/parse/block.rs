@@ -20,6 +20,9 @@ pub(super) const ROTARY: &str = "ABC";
 /// order they run. An error is LinuxCNC's for the same block: two codes of
 /// one modal group, or two codes that both use the axis words.
 pub(super) fn arrange(block: Vec<Group>, warnings: &mut Vec<Diagnostic>) -> Result<Vec<Group>, Diagnostic> {
+    if is_settled(&block) {
+        return Ok(block);
+    }
     let mut codes = Vec::new();
     let mut words = Vec::new();
     let mut wizards = Vec::new();
@@ -113,6 +116,22 @@ pub(super) fn arrange(block: Vec<Group>, warnings: &mut Vec<Diagnostic>) -> Resu
     // Stable: codes of one rank keep the order they were written in.
     ordered.sort_by_key(|(rank, _)| *rank);
     Ok(ordered.into_iter().map(|(_, group)| group).collect())
+}
+
+/// Whether a block is one code with only words of its own, which the rules
+/// below would leave as they are: most blocks (`G01 X1 Y2 F100`), read
+/// without taking them apart.
+fn is_settled(block: &[Group]) -> bool {
+    let [group] = block else { return false };
+    let Head::Code { letter, value } = &group.head else { return false };
+    let Some(n) = code_number(value.value) else { return false };
+    let code = (*letter, n);
+    let takes_axes = (modal_group(code) == Some(MOTION) && code != ('G', 800)) || uses_axes(code) || code == ('G', 530);
+    group.words.iter().all(|&(word, _)| match word {
+        _ if ROTARY.contains(word) => false,
+        _ if AXES.contains(word) => takes_axes,
+        _ => takes_word(*letter, value.value, word, Dialect::Lenient),
+    })
 }
 
 fn add(group: &mut Option<Group>, letter: char, value: Value) {

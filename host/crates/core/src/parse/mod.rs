@@ -196,18 +196,38 @@ impl<L> Parser<L> {
         self.out.extend(warnings.into_iter().map(Event::Diagnostic));
     }
 
-    fn emit(&mut self, group: Group) {
-        for group in self.split(group) {
-            let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
-            match result {
-                Ok(Some(statement)) => {
-                    if let Some(statement) = self.unknown_m_code(statement) {
-                        self.out.push_back(Event::Statement(statement));
-                    }
-                }
-                Ok(None) => {}
-                Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
+    fn emit(&mut self, mut group: Group) {
+        // Most groups take all their words: nothing to split.
+        if group.words.iter().all(|&(letter, _)| self.takes(&group.head, letter)) {
+            if let Head::Code { value, .. } = &group.head {
+                group.span = group.words.iter().fold(value.span, |span, (_, v)| span.to(v.span));
             }
+            return self.emit_one(group);
+        }
+        for group in self.split(group) {
+            self.emit_one(group);
+        }
+    }
+
+    fn emit_one(&mut self, group: Group) {
+        let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
+        match result {
+            Ok(Some(statement)) => {
+                if let Some(statement) = self.unknown_m_code(statement) {
+                    self.out.push_back(Event::Statement(statement));
+                }
+            }
+            Ok(None) => {}
+            Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
+        }
+    }
+
+    /// Whether a group's head takes a word for itself.
+    fn takes(&self, head: &Head, letter: char) -> bool {
+        match head {
+            Head::Code { letter: code, value } => takes_word(*code, value.value, letter, self.dialect),
+            Head::Bare => ARC_WORDS.contains(letter),
+            Head::Wizard { .. } => true,
         }
     }
 
@@ -246,15 +266,10 @@ impl<L> Parser<L> {
     /// that their statement cannot take become statements of their own too.
     fn split(&self, mut group: Group) -> Vec<Group> {
         let mut groups = Vec::new();
-        let takes = |letter: char| match &group.head {
-            Head::Code { letter: code, value } => takes_word(*code, value.value, letter, self.dialect),
-            Head::Bare => ARC_WORDS.contains(letter),
-            Head::Wizard { .. } => true,
-        };
         let mut move_words = Vec::new();
         let mut kept = Vec::new();
         for (letter, value) in std::mem::take(&mut group.words) {
-            if takes(letter) {
+            if self.takes(&group.head, letter) {
                 kept.push((letter, value));
             } else if ARC_WORDS.contains(letter) && !matches!(group.head, Head::Bare) {
                 move_words.push((letter, value));
