@@ -135,16 +135,19 @@ fn parse_finding<'a, R: BufRead + 'a>(
     position: Option<crate::macros::Position>,
 ) -> impl Iterator<Item = Event> + 'a {
     let lexer = Lexer::in_dialect(program, dialect.name);
-    let tokens = if dialect.name == Dialect::Lenient {
+    // The strict dialect has no parameters: its tokens go straight to the parser.
+    let tokens: Box<dyn Iterator<Item = crate::lex::Lexed> + 'a> = if dialect.name == Dialect::Lenient {
         // The lines' text is kept for a backward GOTO to read them again.
         let history = crate::lex::SharedHistory::default();
-        Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits)
-            .with_history(history)
-            .running_fanuc_programs()
-            .finding_programs(files)
-            .reading_position(position)
+        Box::new(
+            Interpreter::new(lexer.recording(history.clone()).pieces(), dialect.limits)
+                .with_history(history)
+                .running_fanuc_programs()
+                .finding_programs(files)
+                .reading_position(position),
+        )
     } else {
-        Interpreter::new(lexer.pieces(), dialect.limits)
+        Box::new(lexer)
     };
     parse_in(tokens, dialect.name).with_code_lists(dialect.codes.clone())
 }
