@@ -404,7 +404,7 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
     let kind = match group.head {
         Head::Wizard { name, args } => Kind::Wizard { name, args },
         Head::Bare if dialect == Dialect::Lenient && words.list.iter().all(|(l, _)| block::ROTARY.contains(*l)) => {
-            Kind::Rotary([words.get('A'), words.get('B'), words.get('C')])
+            Kind::Rotary(Box::new([words.get('A'), words.get('B'), words.get('C')]))
         }
         Head::Bare => {
             // The lenient dialect's Q is a canned cycle's peck depth.
@@ -420,8 +420,8 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
                 // Either the next point of a NURBS (G5.2) or, with new words,
                 // the next hole of a canned cycle: whichever is in force.
                 _ if dialect == Dialect::Lenient && words.has_any("PLQ") && words.has_any("XYZ") => Kind::NextPoint {
-                    point: spline(None, span, &words).map(Box::new),
-                    hole: cycle(810, span, &words).map(Box::new),
+                    point: spline(None, span, &words).map(Box::new).map_err(Box::new),
+                    hole: cycle(810, span, &words).map(Box::new).map_err(Box::new),
                 },
                 _ if words.has_any(ARC_WORDS) => {
                     words.only(ARC_WORDS, "a move")?;
@@ -444,13 +444,13 @@ fn classify(group: Group, dialect: Dialect) -> Result<Statement, Diagnostic> {
 fn fadal_fixture(e: Value) -> Result<Kind, Diagnostic> {
     let entry = match e.value {
         v if v.fract() == 0.0 && (1.0..=6.0).contains(&v) => v as u8,
-        0.0 => return Ok(Kind::Offset { code: Offset::G52, axes: Axes::default() }),
+        0.0 => return Ok(Kind::Offset { code: Offset::G52, axes: Box::default() }),
         _ => {
             return Err(Diagnostic::error(e.span, format!("E{} is not a fixture offset ger has", e.value))
                 .with_help("Fadal's E1 to E6 are G54 to G59, and E0 is machine zero"))
         }
     };
-    Ok(Kind::Offset { code: Offset::WorkOffset(entry), axes: Axes::default() })
+    Ok(Kind::Offset { code: Offset::WorkOffset(entry), axes: Box::default() })
 }
 
 fn speed(s: Value) -> Result<f64, Diagnostic> {
@@ -519,11 +519,11 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
         ('G', 520) | ('G', 920) => {
             words.only("XYZ", &name)?;
             let code = if number == 520 { Offset::G52 } else { Offset::G92 };
-            Kind::Offset { code, axes: words.axes("XYZ") }
+            Kind::Offset { code, axes: Box::new(words.axes("XYZ")) }
         }
         ('G', 540..=590) if number.is_multiple_of(10) => {
             let entry = (number / 10 - 53) as u8;
-            no_words(Kind::Offset { code: Offset::WorkOffset(entry), axes: Axes::default() })?
+            no_words(Kind::Offset { code: Offset::WorkOffset(entry), axes: Box::default() })?
         }
         ('G', 900) => no_words(Kind::Distance(Distance::Absolute))?,
         ('G', 910) => no_words(Kind::Distance(Distance::Incremental))?,
@@ -630,10 +630,10 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 950) => Kind::FeedMode(FeedMode::PerRevolution),
         ('G', 281) => Kind::SetReference(Reference::Home),
         ('G', 301) => Kind::SetReference(Reference::Second),
-        ('G', 921) => Kind::Offset { code: Offset::G92Cancel { keep: false }, axes: Axes::default() },
-        ('G', 922) => Kind::Offset { code: Offset::G92Cancel { keep: true }, axes: Axes::default() },
-        ('G', 923) => Kind::Offset { code: Offset::G92Restore, axes: Axes::default() },
-        ('G', 591..=593) => Kind::Offset { code: Offset::WorkOffset((number - 591 + 7) as u8), axes: Axes::default() },
+        ('G', 921) => Kind::Offset { code: Offset::G92Cancel { keep: false }, axes: Box::default() },
+        ('G', 922) => Kind::Offset { code: Offset::G92Cancel { keep: true }, axes: Box::default() },
+        ('G', 923) => Kind::Offset { code: Offset::G92Restore, axes: Box::default() },
+        ('G', 591..=593) => Kind::Offset { code: Offset::WorkOffset((number - 591 + 7) as u8), axes: Box::default() },
         ('G', 541 | 1540) => {
             let entry = match words.whole('P')? {
                 Some(p @ 1..=EXTENDED_OFFSETS) => p,
@@ -645,7 +645,7 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                     .with_help(format!("write e.g. {name} P1")))
                 }
             };
-            Kind::Offset { code: Offset::WorkOffset(9 + entry as u8), axes: Axes::default() }
+            Kind::Offset { code: Offset::WorkOffset(9 + entry as u8), axes: Box::default() }
         }
         ('M', 190) => Kind::NoEffect("M19"),
         ('M', 310) => Kind::NoEffect("M31"),
@@ -653,8 +653,8 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
         ('G', 800) => Kind::CycleCancel,
         ('G', 980) => Kind::CycleRetract(Retract::Initial),
         ('G', 990) => Kind::CycleRetract(Retract::RPlane),
-        ('G', 280) => Kind::Home { reference: Reference::Home, via: words.axes("XYZ") },
-        ('G', 300) => Kind::Home { reference: Reference::Second, via: words.axes("XYZ") },
+        ('G', 280) => Kind::Home { reference: Reference::Home, via: Box::new(words.axes("XYZ")) },
+        ('G', 300) => Kind::Home { reference: Reference::Second, via: Box::new(words.axes("XYZ")) },
         ('G', 530) => Kind::MachineMove(Box::new(motion(None, words, Dialect::Lenient)?)),
         ('G', 100) => {
             let relative = match words.whole('L')? {
@@ -666,7 +666,7 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                     let Kind::SetToolTable { tool, offsets, radius } = tool_table_entry(words, span)? else {
                         unreachable!("a tool table entry")
                     };
-                    let from = ToolTableFrom { tool, target: offsets, radius, fixture: l == 11, frame: None };
+                    let from = ToolTableFrom { tool, target: *offsets, radius, fixture: l == 11, frame: None };
                     return Ok(Kind::SetToolTableFrom(Box::new(from)));
                 }
                 // Fanuc's L10-L13 (and LinuxCNC's with no axis) write an H or D register's value.
@@ -697,7 +697,7 @@ fn lenient_code(letter: char, number: u32, name: &str, span: Span, words: &Words
                 return Err(Diagnostic::error(r.span, "R is not allowed with G10 L20")
                     .with_help("turn the coordinate system with G10 L2 Pn R.., then set its origin with L20"));
             }
-            Kind::SetWorkOffset { entry, axes: words.axes("XYZ"), relative, rotation }
+            Kind::SetWorkOffset { entry, axes: Box::new(words.axes("XYZ")), relative, rotation }
         }
         ('G', 730 | 740 | 810 | 820 | 830 | 840 | 850 | 860 | 890) => {
             Kind::Cycle(Box::new(cycle(number, span, words)?))
@@ -736,7 +736,7 @@ fn tool_table_entry(words: &Words, span: Span) -> Result<Kind, Diagnostic> {
     if let Some(r) = radius.filter(|r| r.value < 0.0) {
         return Err(Diagnostic::error(r.span, "a tool's radius cannot be negative"));
     }
-    Ok(Kind::SetToolTable { tool, offsets: words.axes("XYZ"), radius })
+    Ok(Kind::SetToolTable { tool, offsets: Box::new(words.axes("XYZ")), radius })
 }
 
 fn cycle(number: u32, span: Span, words: &Words) -> Result<Cycle, Diagnostic> {

@@ -559,7 +559,7 @@ impl<I: Iterator<Item = Event>> Subprograms<'_, I> {
             _ => {
                 let message = format!("P, L and Q are not used by {}, the motion mode in force", self.mode_name());
                 let help = "with no code, they go with a canned cycle (G81 ...) or a NURBS (G5.2) in force";
-                Err(Diagnostic::error(span, message).with_help(help))
+                Err(Box::new(Diagnostic::error(span, message).with_help(help)))
             }
         };
         match kind {

@@ -60,10 +60,10 @@ impl Pass for Units {
                 scale(&mut m.feed);
             }
             Kind::Offset { axes, .. } | Kind::SetWorkOffset { axes, .. } | Kind::Home { via: axes, .. } => {
-                *axes = axes.map(|_, v| v * factor)
+                **axes = axes.map(|_, v| v * factor)
             }
             Kind::SetToolTable { offsets, radius, .. } => {
-                *offsets = offsets.map(|_, v| v * factor);
+                **offsets = offsets.map(|_, v| v * factor);
                 scale(radius);
             }
             Kind::SetToolTableFrom(from) => {

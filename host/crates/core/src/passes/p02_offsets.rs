@@ -336,7 +336,7 @@ impl Pass for Offsets {
                     let code = if *reference == Reference::Home { "G28" } else { "G30" };
                     return out.error(&statement, comp_refuses(code));
                 }
-                *via = self.to_machine(*via);
+                **via = self.to_machine(**via);
             }
             Kind::MachineMove(_) if self.comp => return out.error(&statement, comp_refuses("G53")),
             // As in LinuxCNC ("Cannot convert spline with cutter radius compensation").

@@ -458,7 +458,8 @@ impl Absolute {
                 let frame = from.frame.expect("pass 02 says which coordinate system");
                 match self.tool_offsets.entry_from(from.tool, self.position, from.target, frame, statement.span) {
                     Ok(offsets) => {
-                        statement.kind = Kind::SetToolTable { tool: from.tool, offsets, radius: from.radius }
+                        statement.kind =
+                            Kind::SetToolTable { tool: from.tool, offsets: Box::new(offsets), radius: from.radius }
                     }
                     Err(diagnostic) => return out.error(&statement, diagnostic),
                 }
@@ -543,7 +544,7 @@ impl Absolute {
             }
             Kind::CycleCancel => return,
             Kind::Home { reference, via } => {
-                let (reference, via) = (*reference, *via);
+                let (reference, via) = (*reference, **via);
                 return self.home(reference, via, &statement, out);
             }
             Kind::MachineMove(motion) => {
