@@ -2,6 +2,7 @@
 //! lines its controller takes, through ger's emitter.
 
 use std::collections::HashSet;
+use std::fmt::Write as _;
 
 use ger_core::config::{Config, TargetConfig};
 use ger_core::diag::Diagnostic;
@@ -22,10 +23,9 @@ pub struct Writer {
     emitter: Emitter,
     line_numbers: bool,
     plane: Plane,
-    /// Where the tool is as ger computes it, and as the controller reads the
-    /// written numbers; `None` until an axis is first written.
+    /// Where the tool is as ger computes it; `None` until an axis is first
+    /// written. Where the controller reads it to be is `as_read` of it.
     exact: [Option<f64>; 3],
-    written: [Option<f64>; 3],
     /// The notes already given as warnings: each once.
     warned: HashSet<&'static str>,
     buffer: String,
@@ -51,7 +51,6 @@ impl Writer {
             line_numbers,
             plane: Plane::XY,
             exact: [None; 3],
-            written: [None; 3],
             warned: HashSet::new(),
             buffer: String::new(),
         }
@@ -157,12 +156,11 @@ impl Writer {
         self.buffer = text;
     }
 
-    /// Follows the tool to a move's target, exactly and as written.
+    /// Follows the tool to a move's target.
     fn moved(&mut self, m: &Motion) {
         for axis in 0..3 {
             if let Some(v) = m.target.get(axis) {
                 self.exact[axis] = Some(v.value);
-                self.written[axis] = Some(self.as_read(v.value));
             }
         }
     }
@@ -179,8 +177,16 @@ impl Writer {
     fn line(&mut self, line: u32, text: &str, out: &mut String, notes: &mut Vec<Diagnostic>) {
         let p = self.profile;
         let numbered = self.line_numbers && p.max_line_number.is_none_or(|most| line <= most);
+        let Some(most) = p.max_line_length else {
+            if numbered {
+                let _ = write!(out, "N{line} ");
+            }
+            out.push_str(text);
+            out.push('\n');
+            return;
+        };
         let with_number = if numbered { format!("N{line} {text}") } else { text.to_string() };
-        let fits = |t: &str| p.max_line_length.is_none_or(|most| length(t) <= most);
+        let fits = |t: &str| length(t) <= most;
         if fits(&with_number) {
             out.push_str(&with_number);
         } else if fits(text) {
@@ -192,7 +198,6 @@ impl Writer {
             out.push('\n');
             out.push_str(before);
         } else {
-            let most = p.max_line_length.unwrap_or(0);
             let message =
                 format!("this line is {} characters long, and {} reads {most} at most", length(text), p.label);
             notes.push(Diagnostic::error(ger_core::diag::Span::new(line, 1, 0), message));
@@ -274,7 +279,8 @@ impl Writer {
             Some((start, [end(a, start[0]), end(b, start[1]), end(n, start[2])]))
         };
         let exact = in_plane(self.exact, &m.target, &|v| v);
-        let written = in_plane(self.written, &m.target, &|v| self.as_read(v));
+        let written_position = self.exact.map(|p| p.map(|v| self.as_read(v)));
+        let written = in_plane(written_position, &m.target, &|v| self.as_read(v));
         let centre_word = |axis: usize, read: &dyn Fn(f64) -> f64| m.centre.get(axis).map_or(0.0, |v| read(v.value));
         let (Some((start, end)), Some((written_start, written_end))) = (exact, written) else {
             return self.plain(statement, m, out, notes);

@@ -164,7 +164,7 @@ impl Emitter {
             }
             Kind::NoEffect(code) => out.push_str(code),
             Kind::Rotary(words) => {
-                for (letter, word) in ['A', 'B', 'C'].into_iter().zip(words) {
+                for (letter, word) in ['A', 'B', 'C'].into_iter().zip(words.iter()) {
                     self.value(out, letter, *word);
                 }
             }
@@ -320,11 +320,12 @@ pub fn push_number(out: &mut String, value: f64, decimals: usize) {
     if units < 0 {
         out.push('-');
     }
-    let digits = units.unsigned_abs().to_string();
+    let mut integer = itoa::Buffer::new();
+    let digits = integer.format(units.unsigned_abs());
     if digits.len() <= decimals {
         out.push_str("0.");
         out.extend(std::iter::repeat_n('0', decimals - digits.len()));
-        out.push_str(&digits);
+        out.push_str(digits);
     } else {
         let (whole, fraction) = digits.split_at(digits.len() - decimals);
         out.push_str(whole);
