@@ -42,30 +42,52 @@ fn ger_moves_like_rs274() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/differential");
     let config = dir.join("ger.toml");
     let machine = machine(&config);
-    let programs_in = |dir: &Path| -> Vec<PathBuf> {
-        let mut programs: Vec<PathBuf> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
-            .collect();
-        programs.sort();
-        programs
-    };
     let strict = programs_in(&dir);
     let lenient = programs_in(&dir.join("lenient"));
     assert!(strict.len() >= 5 && lenient.len() >= 2, "the differential programs are missing");
     let runs = strict.iter().map(|p| (p, false)).chain(lenient.iter().map(|p| (p, true)));
+    let failures = disagreements(runs, &config, &machine);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// LinuxCNC keeps the coordinate systems', G92's and G28/G30's parameters
+/// in the machine's unit, and rs274's machine is in inches: the programs
+/// that read them run on an inch machine on both sides.
+#[test]
+fn machine_unit_parameters_read_like_rs274() {
+    if rs274_missing() {
+        return;
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/differential/inch-machine");
+    let programs = programs_in(&dir);
+    assert!(!programs.is_empty(), "the inch machine's programs are missing");
+    let failures = disagreements(programs.iter().map(|p| (p, true)), &dir.join("ger.toml"), &Machine::default());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+fn programs_in(dir: &Path) -> Vec<PathBuf> {
+    let mut programs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        .collect();
+    programs.sort();
+    programs
+}
+
+/// Each program (and whether it is lenient) run by both on `machine`: what disagrees.
+fn disagreements<'a>(runs: impl Iterator<Item = (&'a PathBuf, bool)>, config: &Path, machine: &Machine) -> Vec<String> {
     let mut failures = Vec::new();
     for (program, is_lenient) in runs {
         let name = program.file_name().unwrap().to_string_lossy();
-        let peer = rs274::moves(program, &machine, TIME_LIMIT)
+        let peer = rs274::moves(program, machine, TIME_LIMIT)
             .unwrap_or_else(|refusal| panic!("rs274 refuses {name}: {refusal:?}"));
-        match rs274::compare(&ger_moves(program, &config, is_lenient), &peer, TOLERANCE_MM) {
+        match rs274::compare(&ger_moves(program, config, is_lenient), &peer, TOLERANCE_MM) {
             Ok(agreement) => eprintln!("{name}: {} moves agree", agreement.moves),
             Err(disagreement) => failures.push(format!("{name}: {disagreement}")),
         }
     }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    failures
 }
 
 /// The machine of a ger.toml in mm (the tests' machine is in mm): its

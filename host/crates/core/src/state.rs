@@ -40,7 +40,20 @@ pub struct Snapshot {
     /// The work offset last selected: 1 for G54 to 9 for G59.3 (and on for
     /// the extended ones); written by pass 02.
     pub system: u8,
+    /// G54 to G59.3's origins (machine coordinates) and rotations; written
+    /// by pass 02, as are the two after.
+    pub work_offsets: [[f64; 3]; COORDINATE_SYSTEMS],
+    pub rotations: [f64; COORDINATE_SYSTEMS],
+    /// The G52/G92 offset, along the coordinate system's axes, and whether
+    /// it is in force (LinuxCNC keeps it after G92.2, for G92.3).
+    pub g92: [f64; 3],
+    pub g92_in_force: bool,
+    /// G28's and G30's points, in machine coordinates; written by pass 04.
+    pub references: [[f64; 3]; 2],
 }
+
+/// The coordinate systems whose parameters LinuxCNC keeps: G54 to G59.3.
+pub const COORDINATE_SYSTEMS: usize = 9;
 
 pub type Probe = Rc<RefCell<Snapshot>>;
 
@@ -56,6 +69,11 @@ pub fn probe(machine_units: Units) -> Probe {
         spindle: Spindle::Off,
         tool: 1,
         system: 1,
+        work_offsets: [[0.0; 3]; COORDINATE_SYSTEMS],
+        rotations: [0.0; COORDINATE_SYSTEMS],
+        g92: [0.0; 3],
+        g92_in_force: false,
+        references: [[0.0; 3]; 2],
     }))
 }
 
@@ -101,6 +119,16 @@ pub struct Place {
     pub feed: Option<f64>,
     pub spindle: Spindle,
     pub tool: u32,
+    /// The coordinate systems' origins in machine coordinates, and their
+    /// rotations in degrees. These three are in the machine's units, not
+    /// the program's: LinuxCNC keeps its parameters so (a G20 program on a
+    /// mm machine reads G54's X in mm).
+    pub work_offsets: [[f64; 3]; COORDINATE_SYSTEMS],
+    pub rotations: [f64; COORDINATE_SYSTEMS],
+    pub g92: [f64; 3],
+    pub g92_in_force: bool,
+    /// G28's and G30's points, in machine coordinates.
+    pub references: [[f64; 3]; 2],
 }
 
 impl Snapshot {
@@ -117,6 +145,11 @@ impl Snapshot {
             feed: self.feed.map(|f| f * to_program),
             spindle: self.spindle,
             tool: self.tool,
+            work_offsets: self.work_offsets,
+            rotations: self.rotations,
+            g92: self.g92,
+            g92_in_force: self.g92_in_force,
+            references: self.references,
         }
     }
 

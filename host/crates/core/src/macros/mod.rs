@@ -74,8 +74,20 @@ const POSITION: u32 = 5420;
 /// are the program's own).
 const FANUC_MODAL: std::ops::RangeInclusive<u32> = 4001..=4130;
 
+/// LinuxCNC's (and Fanuc's) first coordinate system parameter, G54's X:
+/// each system has 20 from there (X Y Z A B C U V W, then R at the tenth).
+const WORK_OFFSETS: u32 = 5221;
+
+/// The parameters read from the state the passes keep.
+fn reads_place(number: u32) -> bool {
+    matches!(number, 4001..=4130 | 5001..=5003 | 5021..=5023 | 5041..=5043 | 5161..=5169 | 5181..=5189 | 5210..=5390 | 5420..=5422)
+}
+
 /// The value of a parameter that reads where the program has got to, if
-/// `number` is one: LinuxCNC's #5220 and #5420-#5422, Fanuc's block end
+/// `number` is one: LinuxCNC's #5220 and #5420-#5422, the coordinate
+/// systems (#5221-#5390: each one's X Y Z and R, A to W reading 0 on a
+/// three-axis machine), the G52/G92 offset (#5210 in force, #5211-#5213)
+/// and G28's and G30's points (#5161-#5163, #5181-#5183); Fanuc's block end
 /// (#5001-#5003) and current positions (#5021-#5023 machine, #5041-#5043
 /// work coordinates) and the modal information ger keeps (#4002 plane,
 /// #4003 distance mode, #4006 units, #4014 work offset, #4109 F, #4119 S,
@@ -90,6 +102,21 @@ fn place_parameter(place: &crate::state::Place, number: u32, at: Span) -> Result
         5041..=5043 => axis(5041),
         5021..=5023 => place.machine[(number - 5021) as usize],
         COORDINATE_SYSTEM => f64::from(place.system),
+        5161..=5163 => place.references[0][(number - 5161) as usize],
+        5181..=5183 => place.references[1][(number - 5181) as usize],
+        5210 => f64::from(u8::from(place.g92_in_force)),
+        5211..=5213 => place.g92[(number - 5211) as usize],
+        // The rotary and secondary axes ger does not have.
+        5164..=5169 | 5184..=5189 | 5214..=5219 => 0.0,
+        WORK_OFFSETS..=5390 => {
+            let (system, word) = ((number - WORK_OFFSETS) / 20, (number - WORK_OFFSETS) % 20);
+            match word {
+                0..=2 => place.work_offsets[system as usize][word as usize],
+                3..=8 => 0.0,
+                9 => place.rotations[system as usize],
+                _ => return Ok(None),
+            }
+        }
         4002 => match place.plane {
             Plane::XY => 17.0,
             Plane::ZX => 18.0,
@@ -210,8 +237,7 @@ impl Parameters for Store {
         if number as usize <= LOCALS {
             return Ok(self.levels.last().map_or(0.0, |level| level.numbered[number as usize - 1]));
         }
-        let reads_place = matches!(number, 4001..=4130 | 5001..=5003 | 5021..=5023 | 5041..=5043 | 5220 | 5420..=5422);
-        if let (Some(position), true) = (&self.position, reads_place) {
+        if let (Some(position), true) = (&self.position, reads_place(number)) {
             if !self.numbered.contains_key(&number) {
                 if let Some(value) = place_parameter(&position(), number, at)? {
                     return Ok(value);
@@ -759,6 +785,12 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 let number = expr::number(index, &self.store, span)?;
                 if number == expr::VACANT {
                     return Err(Diagnostic::error(span, "#0 is Fanuc's vacant value: it is read, not set"));
+                }
+                if number >= FIRST_SYSTEM_PARAMETER && reads_place(number) {
+                    let message = format!("#{number} reads the machine's state: it is read, not set");
+                    let help = "set a coordinate system with G10 L2 (G10 L2 P1 X10 sets G54's X), the G92 offset \
+                                with G92, G28's and G30's points with G28.1 and G30.1";
+                    return Err(Diagnostic::error(span, message).with_help(help));
                 }
                 system_parameter(number, span)?;
                 Target::Numbered(number)
@@ -2013,7 +2045,7 @@ mod tests {
                 "G01 X[10 ** 20] F10",
                 "2:5: error: this works out to 100000000000000000000: ger reads numbers up to 10^12",
             ),
-            ("#5221 = 1", "2:1: error: #5221 is one of LinuxCNC's system parameters, which ger does not compute"),
+            ("#5400 = 1", "2:1: error: #5400 is one of LinuxCNC's system parameters, which ger does not compute"),
             ("G01 X#-1", "2:6: error: there is no parameter #-1: they are #1 to #5602"),
             ("G01 X#1.5", "2:6: error: a parameter's number must be whole, not 1.5"),
             ("G01 X[1 + ] F10", "2:11: error: expected a value: a number, a parameter, `[expression]` or a function"),
@@ -2374,6 +2406,31 @@ mod tests {
             "G21 G90\n#3006 = 1 (TURN THE PART)\nG01 X1 F10\nM30",
             "G21 G90\nM00 (TURN THE PART)\nG01 X1 F10\nM30",
         );
+    }
+
+    #[test]
+    fn the_coordinate_systems_are_read_in_the_machines_unit() {
+        // A mm machine: G55 set to X-3 (mm) reads -3 in a G20 program too, so X#5241 moves to -3 in
+        // (-76.2 mm) from G55's origin at -3 mm: -79.2 mm. G30's point after G30.1 at G55's X12 is
+        // in machine coordinates, 12 - 3 = 9. G92's X: the tool at X5 (G54 zero) reading 1 gives an offset of 4 mm,
+        // in force (#5210 = 1) until G92.1 clears both.
+        assert_eq!(
+            flat("G10 L2 P2 X-3\nG55\nG20\nG00 X#5241\nG21\nG00 X12\nG30.1\nG00 Y#5181\nG54\nG00 X5\nG92 X1\nG00 Y[#5211 + #5210]\nG92.1\nG00 Y[#5211 + #5210]"),
+            [
+                "G00 X-79.200",
+                "G00 X9.000",
+                "G00 Y9.000",
+                "G00 X5.000",
+                "G00 Y5.000",
+                "G00 Y0.000",
+            ]
+        );
+        // A system's R (#5230 for G54), and the axes ger does not have (A: #5224) reading 0: the move
+        // to (30, 0) in G54 turned by 30 degrees ends at (30 cos 30, 30 sin 30).
+        assert_eq!(flat("G10 L2 P1 R30\nG00 X#5230 Y#5224"), ["G00 X25.981 Y15.000"]);
+        assert_eq!(flat("#5241 = 2"), ["2:1: error: #5241 reads the machine's state: it is read, not set"]);
+        // Between two systems' parameters, #5231-#5240 are nobody's.
+        assert!(flat("G00 X#5231")[0].contains("error: #5231 is one of LinuxCNC's system parameters"));
     }
 
     #[test]

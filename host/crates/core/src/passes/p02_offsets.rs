@@ -22,7 +22,7 @@ use super::{Out, Pass};
 use crate::config::{WorkOffsets, WORK_OFFSETS};
 use crate::diag::Diagnostic;
 use crate::geom::turn;
-use crate::state::Probe;
+use crate::state::{Probe, COORDINATE_SYSTEMS};
 use crate::statement::{Axes, Dialect, Distance, Frame, Kind, MotionMode, Offset, Plane, Reference, Statement, Value};
 
 pub struct Offsets {
@@ -42,6 +42,9 @@ pub struct Offsets {
     /// The G52/G92 offset from that system, as LinuxCNC keeps it for G92.3,
     /// along the system's own (turned) axes.
     kept_g92: [f64; 3],
+    /// Whether that offset is in force: from G52/G92 (or G92.3) to
+    /// G92.1/G92.2, LinuxCNC's #5210.
+    g92_in_force: bool,
     /// G90.1: I, J and K are absolute, so they move with program zero.
     absolute_centres: bool,
     /// The lenient dialect changes program zero in G91, as LinuxCNC does.
@@ -56,7 +59,7 @@ pub struct Offsets {
 
 impl Offsets {
     pub fn new(table: &WorkOffsets, dialect: Dialect, probe: Probe) -> Offsets {
-        Offsets {
+        let offsets = Offsets {
             table: (1..=WORK_OFFSETS).map(|entry| table.entry(entry as u8)).collect(),
             rotations: vec![0.0; WORK_OFFSETS],
             prz: [0.0; 3],
@@ -64,6 +67,7 @@ impl Offsets {
             entry_in_force: None,
             system: 1,
             kept_g92: [0.0; 3],
+            g92_in_force: false,
             absolute_centres: false,
             dialect,
             plane: Plane::XY,
@@ -71,7 +75,21 @@ impl Offsets {
             polar: false,
             comp: false,
             probe,
+        };
+        offsets.publish();
+        offsets
+    }
+
+    /// Tells the probe the table and the G52/G92 offset, which LinuxCNC's
+    /// parameters #5210-#5213 and #5221-#5390 read.
+    fn publish(&self) {
+        let mut probe = self.probe.borrow_mut();
+        for (entry, (origin, rotation)) in self.table.iter().zip(&self.rotations).take(COORDINATE_SYSTEMS).enumerate() {
+            probe.work_offsets[entry] = *origin;
+            probe.rotations[entry] = *rotation;
         }
+        probe.g92 = self.kept_g92;
+        probe.g92_in_force = self.g92_in_force;
     }
 
     fn mode_forbidding_offsets(&self) -> Option<(&'static str, &'static str)> {
@@ -148,9 +166,12 @@ impl Offsets {
     fn set_prz(&mut self, prz: [f64; 3], entry: Option<u8>) {
         self.prz = prz;
         self.entry_in_force = entry;
-        let mut probe = self.probe.borrow_mut();
-        probe.prz = prz;
-        probe.rotation = self.rotation;
+        {
+            let mut probe = self.probe.borrow_mut();
+            probe.prz = prz;
+            probe.rotation = self.rotation;
+        }
+        self.publish();
     }
 
     /// Machine coordinates of program zero `offset` along the axes of the system in force.
@@ -223,6 +244,11 @@ impl Pass for Offsets {
                     out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
                     return;
                 }
+                self.g92_in_force = match code {
+                    Offset::G52 | Offset::G92 | Offset::G92Restore => true,
+                    Offset::G92Cancel { .. } => false,
+                    Offset::WorkOffset(_) => self.g92_in_force,
+                };
                 let given = [0, 1, 2].map(|axis| axes.get(axis).map_or(0.0, |v| v.value));
                 let position = self.probe.borrow().position;
                 let system = self.table[usize::from(self.system - 1)];
@@ -316,6 +342,7 @@ impl Pass for Offsets {
                         _ => self.set_prz(self.prz, self.entry_in_force),
                     }
                 }
+                self.publish();
                 return;
             }
             Kind::ArcCentres(distance) => self.absolute_centres = *distance == Distance::Absolute,

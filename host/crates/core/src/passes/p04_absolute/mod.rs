@@ -60,6 +60,7 @@ pub struct Absolute {
 
 impl Absolute {
     pub fn new(config: &Config, probe: Probe) -> Absolute {
+        probe.borrow_mut().references = [[0.0; 3], config.machine.second_reference];
         Absolute {
             units: config.units,
             dialect: config.dialect.name,
@@ -497,6 +498,7 @@ impl Absolute {
                     Reference::Home => self.home = self.position,
                     Reference::Second => self.second_reference = self.position,
                 }
+                self.probe.borrow_mut().references = [self.home, self.second_reference];
                 return;
             }
             Kind::Rotary(words) => {
