@@ -474,8 +474,8 @@ pub enum WizardArg {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Kind {
     /// Boxed, as every payload larger than a few words is: each statement is
-    /// moved through every stage, and a `Statement` of 64 bytes moves in
-    /// registers where one of 168 went through `memmove` (half the
+    /// moved through every stage, and a `Statement` of 80 bytes moves in
+    /// registers where one of 168 went through `memmove` (a fifth of the
     /// translation's time).
     Motion(Box<Motion>),
     Plane(Plane),
