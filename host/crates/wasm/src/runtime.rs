@@ -32,7 +32,7 @@ use std::time::Duration;
 use rand::{Rng, SeedableRng};
 use sha2::{Digest, Sha256};
 use wasmtime::component::{HasSelf, Linker, ResourceTable};
-use wasmtime::{Config, Engine, ResourceLimiter, Store, Trap};
+use wasmtime::{Config, Engine, InstanceAllocationStrategy, PoolingAllocationConfig, ResourceLimiter, Store, Trap};
 use wasmtime_wasi::p2::pipe::MemoryOutputPipe;
 use wasmtime_wasi::{HostMonotonicClock, HostWallClock, WasiCtx, WasiCtxBuilder, WasiCtxView, WasiView};
 
@@ -266,8 +266,17 @@ impl WasmWizards {
     pub fn new(dir: &Path, config: &config::Config, limits: Limits, progress: Option<Progress>) -> WasmWizards {
         let mut wasm_config = Config::new();
         wasm_config.epoch_interruption(true);
-        // Component::new can only fail on a bad configuration, which this is not.
-        let engine = Engine::new(&wasm_config).expect("a valid wasmtime configuration");
+        // A few pooled slots: calls run one at a time (a wizard's nested calls
+        // run after its instance is gone), and a fresh instance per call still
+        // starts from the module's own memory image. Where the address space
+        // cannot be reserved, instances are made on demand as before.
+        let mut pooled = wasm_config.clone();
+        let mut pool = PoolingAllocationConfig::default();
+        pool.total_component_instances(4).total_core_instances(32).total_memories(8).total_tables(16);
+        pooled.allocation_strategy(InstanceAllocationStrategy::Pooling(pool));
+        // Engine::new can only fail on a bad configuration or a refused reservation.
+        let engine =
+            Engine::new(&pooled).or_else(|_| Engine::new(&wasm_config)).expect("a valid wasmtime configuration");
         let mut linker = Linker::new(&engine);
         wasmtime_wasi::p2::add_to_linker_sync(&mut linker).expect("WASI links once");
         Wizard::add_to_linker::<Guest, HasSelf<Guest>>(&mut linker, |guest| guest).expect("the host links once");
