@@ -767,11 +767,17 @@ impl<R: BufRead> Lexer<R> {
     /// `GOTO n`, from `start`; the target `n` (a number or any value, as
     /// Fanuc allows: `GOTO#10`, `GOTO[#1+10]`) starts at `at`.
     fn goto(&mut self, text: &str, start: usize, at: usize) -> usize {
+        self.value_macro(text, start, at, Macro::Goto)
+    }
+
+    /// A piece made of the value that starts at `at`, spanning from `start`;
+    /// a malformed value is refused.
+    fn value_macro(&mut self, text: &str, start: usize, at: usize, make: fn(Expr) -> Macro) -> usize {
         let mut reader = Reader::new(text, at, self.line_no);
         match reader.value() {
-            Ok(target) => {
+            Ok(value) => {
                 let span = self.span(start, reader.pos - start);
-                self.pending.push_back(Piece::Macro(Macro::Goto(target), span));
+                self.pending.push_back(Piece::Macro(make(value), span));
                 reader.pos
             }
             Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
@@ -788,15 +794,7 @@ impl<R: BufRead> Lexer<R> {
     /// A wizard argument that is an expression (lenient dialect): its value
     /// is worked out by the interpreter stage before the call.
     fn argument_expression(&mut self, text: &str, start: usize) -> usize {
-        let mut reader = Reader::new(text, start, self.line_no);
-        match reader.value() {
-            Ok(value) => {
-                let span = self.span(start, reader.pos - start);
-                self.pending.push_back(Piece::Macro(Macro::Argument(value), span));
-                reader.pos
-            }
-            Err(diagnostic) => self.refuse_expression(text, start, diagnostic),
-        }
+        self.value_macro(text, start, start, Macro::Argument)
     }
 
     fn wizard_number(&mut self, text: &str, start: usize) -> usize {
