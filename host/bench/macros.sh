@@ -53,19 +53,12 @@ NGC
 }
 # The outer loop makes every move: let it, as a real program would say in ger.toml.
 printf '[machine]\nmax_iterations = 100000000\n' > "$out/macros.toml"
-measure() { # NAME MOVES FILE: the best of 3 runs by CPU time
-  local name=$1 moves=$2 file=$3 best="" line
-  for _ in 1 2 3; do
-    /usr/bin/time -o "$out/time" -f "%e %U %S %M" "$ger" run --lenient --units mm --config "$out/macros.toml" \
-      "$file" -o "$out/macros.out.ngc" 2> "$out/stderr" || { cat "$out/stderr"; return 1; }
-    line=$(tail -1 "$out/time")
-    if [ -z "$best" ] || awk -v a="$line" -v b="$best" 'BEGIN { split(a, x, " "); split(b, y, " "); exit !(x[2] + x[3] < y[2] + y[3]) }'; then
-      best=$line
-    fi
-  done
-  awk -v n="$name" -v r="$best" -v m="$moves" 'BEGIN {
-    split(r, f, " "); cpu = f[2] + f[3]; if (cpu <= 0) cpu = 0.01
-    printf "%-34s %6.2f s wall %6.2f s cpu  %10.0f moves/s (cpu)  %6.1f MB peak\n", n, f[1], cpu, m / cpu, f[4] / 1024 }'
+source host/bench/best_of_three.sh
+measure() { # NAME MOVES FILE
+  local best
+  best=$(best_of_three "$out" "$ger" run --lenient --units mm --config "$out/macros.toml" "$3" -o "$out/macros.out.ngc") ||
+    { cat "$out/stderr"; return 1; }
+  report "$1" 34 "$best" "$2" moves
 }
 for kind in linuxcnc fanuc; do
   for n in 10 "$outer"; do

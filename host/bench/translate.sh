@@ -15,19 +15,13 @@ program="$out/surface-$lines.ngc"
 [ -f "$program" ] || python3 host/bench/gen_surface.py "$lines" > "$program"
 cargo build --release -q -p ger
 ger=target/release/ger
-measure() { # NAME COMMAND... : the best of 3 runs: wall and CPU seconds, lines/s, peak RSS
+source host/bench/best_of_three.sh
+measure() { # NAME COMMAND...
   local name=$1; shift
-  local best="" line
-  for _ in 1 2 3; do
-    /usr/bin/time -o "$out/time" -f "%e %U %S %M" "$@" > /dev/null 2>&1 || true
-    line=$(tail -1 "$out/time")
-    if [ -z "$best" ] || awk -v a="$line" -v b="$best" 'BEGIN { split(a, x, " "); split(b, y, " "); exit !(x[2] + x[3] < y[2] + y[3]) }'; then
-      best=$line
-    fi
-  done
-  awk -v n="$name" -v r="$best" -v l="$lines" 'BEGIN {
-    split(r, f, " "); cpu = f[2] + f[3]; if (cpu <= 0) cpu = 0.01
-    printf "%-22s %6.2f s wall %6.2f s cpu  %10.0f lines/s (cpu)  %6.1f MB peak\n", n, f[1], cpu, l / cpu, f[4] / 1024 }'
+  local best
+  # rs274 may end with a status of its own: its time counts all the same.
+  best=$(best_of_three "$out" "$@") || true
+  report "$name" 22 "$best" "$lines" lines
 }
 echo "$lines-line surfacing program ($(du -h "$program" | cut -f1)) on $(nproc) cores"
 measure "ger run" "$ger" run "$program" -o "$out/surface.out.ngc"
