@@ -977,6 +977,17 @@ fn a_wizards_random_numbers_depend_only_on_the_call() {
 }
 
 #[test]
+fn a_wizard_never_sees_what_an_earlier_call_left() {
+    // `Remember N` moves to X = N plus the marks of earlier calls it finds in
+    // its statics and heap: each call must find none.
+    let calls: String = (1..=5).map(|n| format!("Remember {n}\n")).collect();
+    let (lines, diagnostics) = run("tests/wizards/guests", &mm(""), &format!("G21 G90 G01 F100\n{calls}M30\n"));
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let xs: Vec<f64> = moves(&lines).iter().map(|(_, _, to)| to[0]).collect();
+    assert_eq!(xs, [1.0, 2.0, 3.0, 4.0, 5.0], "a call found an earlier call's marks: {lines:?}");
+}
+
+#[test]
 fn the_total_time_is_an_option() {
     let target = repo("tests/wizards/guests/target/cargo");
     run("tests/wizards/guests", &mm(""), "Spin\n");
