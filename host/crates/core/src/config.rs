@@ -307,6 +307,17 @@ fn one() -> u32 {
     1
 }
 
+impl StockConfig {
+    /// The block's lowest and highest corners in machine coordinates, when
+    /// its size is given: program zero at `origin` from its lower-left-bottom
+    /// corner (by default on its top).
+    pub fn block(&self) -> Option<[[f64; 3]; 2]> {
+        let size = self.size?;
+        let origin = self.origin.unwrap_or([0.0, 0.0, size[2]]);
+        Some([origin.map(|o| -o), std::array::from_fn(|axis| size[axis] - origin[axis])])
+    }
+}
+
 /// `[stock]`: either `size` (with `origin`) or `margin`; by default a margin.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -35,10 +35,8 @@ pub struct Stock {
 impl Stock {
     /// The stock `[stock] size/origin` describes, if it does (else a margin is wanted).
     pub fn from_config(config: &Config) -> Option<Stock> {
-        let size = config.stock.size?;
-        let origin = config.stock.origin.unwrap_or([0.0, 0.0, size[2]]);
-        let (size, origin) = (Point::from(size), Point::from(origin));
-        Some(Stock { min: -origin, max: size - origin })
+        let [min, max] = config.stock.block()?;
+        Some(Stock { min: Point::from(min), max: Point::from(max) })
     }
 
     pub fn size(&self) -> Point {
