@@ -586,17 +586,37 @@ fn engrave_cuts_its_strokes_inside_the_text_box_at_its_depth() {
 }
 
 #[test]
-fn the_example_pocket_passes_the_check_with_warnings_denied() {
-    // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
-        .args(["check", "--deny", "warnings", "--quiet", "host/examples/pocket.ngc"])
-        .current_dir(repo("."))
-        .env("NO_COLOR", "1")
-        .output()
-        .unwrap();
-    let (out, err) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "{out}{err}");
-    assert!(!err.contains("warning") && !out.contains("warning"), "{out}{err}");
+fn every_wizards_example_passes_the_check_with_warnings_denied_and_is_pictured() {
+    // The README's example, then one for each wizard that ships (the
+    // README shows each, rendered by host/docs/wizards/render.sh).
+    let mut programs = vec![repo("host/examples/pocket.ngc")];
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let mut shipped: Vec<String> = std::fs::read_dir(repo("wizards"))
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.is_dir() && !path.ends_with("target"))
+        .map(|path| path.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    shipped.sort();
+    for name in &shipped {
+        let program = repo(&format!("host/examples/wizards/{name}.ngc"));
+        assert!(program.exists(), "the wizard {name} has no example in host/examples/wizards");
+        let picture = format!("host/docs/wizards/{name}.png");
+        assert!(repo(&picture).exists() && readme.contains(&picture), "{picture} is missing or not in the README");
+        programs.push(program);
+    }
+    for program in programs {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+            .args(["check", "--deny", "warnings", "--quiet", "--wizards"])
+            .arg(repo("wizards"))
+            .arg(&program)
+            .env("NO_COLOR", "1")
+            .output()
+            .unwrap();
+        let (out, err) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+        assert!(output.status.success(), "{}: {out}{err}", program.display());
+        assert!(!err.contains("warning") && !out.contains("warning"), "{}: {out}{err}", program.display());
+    }
 }
 
 #[test]
