@@ -819,7 +819,7 @@ mod tests {
         use crate::parse::{parse, Event};
         use crate::passes::{translate, Library, Options};
         use crate::state::{CallState, Spindle};
-        use crate::statement::{Distance, Statement, Units, WizardArg};
+        use crate::statement::{Distance, Units, WizardArg};
         use crate::wizard::{Call, Expansion, Wizards};
 
         /// Records what it is told and answers with the G-code text it is given.
