@@ -59,6 +59,23 @@ fn the_json_report_has_its_documented_shape() {
     }
     assert_eq!(report["summary"]["problems"], serde_json::json!({ "rapid-into-stock": 2 }));
     assert_eq!(report["summary"]["units"], "mm");
+    // The planned time: on grbl-default (no [machine.motion]), by tool, and by call.
+    let planned = &report["summary"]["planned"];
+    assert_eq!(planned["profile"]["preset"], "grbl-default");
+    assert_eq!(planned["profile"]["configured"], false);
+    assert_eq!(planned["profile"]["max_rate"], serde_json::json!([5000.0, 5000.0, 1000.0]));
+    let total = planned["seconds"].as_f64().unwrap();
+    assert_eq!(planned["tools"].as_array().unwrap().len(), 1);
+    assert_eq!(planned["tools"][0]["seconds"].as_f64(), Some(total));
+    let calls = planned["calls"].as_array().unwrap();
+    assert_eq!(calls.len(), 2, "{calls:?}");
+    for (call, line) in calls.iter().zip([5, 7]) {
+        assert_eq!((call["name"].as_str(), call["line"].as_u64(), call["column"].as_u64()), (Some("O10"), Some(line), Some(1)));
+    }
+    // The first call feeds 20 mm at 200 mm/min (6 s) and rapids 4 mm on Z;
+    // the second is already at Y30: its rapids alone, well under a second.
+    let (first, second) = (calls[0]["seconds"].as_f64().unwrap(), calls[1]["seconds"].as_f64().unwrap());
+    assert!(first > 6.0 && first < 7.0 && second < 1.0 && first + second < total, "{first} {second} of {total}");
 
     // A clean program: no diagnostics, and the summary's figures (worked out
     // in tests/check/plunge_clean.ngc: 3 + 30 + 3 + 30 + sqrt(30^2 + 3^2) at F100).

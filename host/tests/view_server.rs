@@ -231,6 +231,26 @@ fn the_pocket_example_translated_simulated_edited_and_saved() {
     }
     assert_eq!(state["path"]["min"], serde_json::json!([0.0, 0.0, -10.0]));
 
+    // The planned run time is `ger check`'s; each line is reached in program order, the
+    // first move (line 6) at once, the pocket (line 10) before the second tool (line 12).
+    let check = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .current_dir(server.dir.path())
+        .args(["check", "pocket.ngc", "--quiet", "--format", "json", "--wizards"])
+        .arg(root().join("wizards"))
+        .output()
+        .unwrap();
+    let report: serde_json::Value = serde_json::from_slice(&check.stdout).unwrap();
+    let planned = report["summary"]["planned"]["seconds"].as_f64().unwrap();
+    let run_time = &state["run_time"];
+    assert_eq!(run_time["seconds"].as_f64(), Some((planned * 100.0).round() / 100.0));
+    assert_eq!((run_time["preset"].as_str(), run_time["configured"].as_bool()), (Some("grbl-default"), Some(false)));
+    let times: Vec<f64> = run_time["lines"].as_array().unwrap().iter().map(|t| t.as_f64().unwrap()).collect();
+    assert_eq!(times.len(), 19, "{times:?}");
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+    assert_eq!(&times[..6], [0.0; 6]);
+    assert!(times[9] > 0.0 && times[10] - times[9] > 10.0 && times[11] < times[18], "{times:?}");
+    assert_eq!(times[18], run_time["seconds"].as_f64().unwrap());
+
     // An edit: a shallower pocket, not saved.
     let text = state["source"].as_str().unwrap().replace("Pocket 75 30 10 3", "Pocket 75 30 4 2");
     let answer = server.post("/api/source", &text);

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 
 use super::render::{memory_limit, refused, resolution, Bar};
 use super::{styled, CommonArgs};
-use ger_check::{Bounds, Finding, Rule, Summary, Verdict};
+use ger_check::{Bounds, Finding, ProfileUsed, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
 use ger_engine::{Purpose, Report, Resolution};
@@ -142,12 +142,19 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
         s.rapid_distance,
         d = decimals
     );
+    let planned = &s.planned;
+    let _ = writeln!(out, "  run time  {} planned on {}", duration(planned.seconds), profile_text(&planned.profile, unit));
     let _ = writeln!(
         out,
-        "  run time  {} (feeds as programmed, rapids at {} {unit}/min)",
+        "            {} at programmed feeds (rapids at {} {unit}/min, no acceleration)",
         duration(s.run_time_seconds),
         s.rapid_rate
     );
+    if planned.tools.len() > 1 {
+        let tools: Vec<String> =
+            planned.tools.iter().map(|t| format!("T{} {}", t.number, duration(t.seconds))).collect();
+        let _ = writeln!(out, "            {}", tools.join(", "));
+    }
     // One line a tool: what it cut, what it is, and where the table got it.
     let tools: Vec<String> = s
         .tools
@@ -184,6 +191,16 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
         let _ = writeln!(out, "  problems  {}", problems.join(", "));
     }
     out
+}
+
+/// Which profile the time was planned on, and where it came from.
+fn profile_text(profile: &ProfileUsed, unit: &str) -> String {
+    let preset = profile.preset;
+    match (&profile.grbl_settings, profile.configured) {
+        (_, false) => format!("{preset}, GRBL 1.1h's defaults in {unit} (no [machine.motion] in ger.toml)"),
+        (Some(file), true) => format!("the GRBL settings of {file} over {preset} ([machine.motion])"),
+        (None, true) => format!("[machine.motion] over {preset}"),
+    }
 }
 
 /// "1 h 02 min", "3 min 05 s", "12.5 s".

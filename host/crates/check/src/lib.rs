@@ -11,6 +11,7 @@
 //! files or knows argv.
 
 mod summary;
+mod timing;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -22,6 +23,8 @@ use ger_core::statement::{Kind, Machine, Statement};
 use ger_core::tools::ToolSource;
 use ger_sim::{Contact, HeightField, Point, Segment, Simulation, Tracker};
 pub use summary::{Bounds, Summary, ToolUse};
+pub use timing::{outermost_line, CallTime, Planned, ProfileUsed, ToolTime};
+use timing::Timing;
 
 /// One problem: a translator's diagnostic (no rule) or a check's.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +44,9 @@ pub struct Verdict {
     /// In program order; at most [`SHOWN_PER_RULE`] of each rule.
     pub findings: Vec<Finding>,
     pub summary: Summary,
+    /// When the planned run reaches each line of the main program, in
+    /// seconds (empty unless [`Checker::timing_lines`] asked).
+    pub line_times: Vec<f64>,
 }
 
 /// A move cut into the stock whose contact has not been reported yet.
@@ -89,6 +95,7 @@ pub struct Checker<'c> {
     pending: VecDeque<Pending>,
     findings: Vec<Finding>,
     summary: Summary,
+    timing: Timing,
 }
 
 impl<'c> Checker<'c> {
@@ -113,7 +120,14 @@ impl<'c> Checker<'c> {
             pending: VecDeque::new(),
             findings: Vec::new(),
             summary: Summary::new(config),
+            timing: Timing::new(config),
         }
+    }
+
+    /// Also works out when the planned run reaches each line of the main program.
+    pub fn timing_lines(mut self) -> Checker<'c> {
+        self.timing.by_line();
+        self
     }
 
     /// A diagnostic of the translation, in its place in the run.
@@ -124,6 +138,7 @@ impl<'c> Checker<'c> {
     /// Follows one output statement.
     pub fn statement(&mut self, statement: &Statement) {
         self.summary.count(statement);
+        self.timing.statement(statement);
         match &statement.kind {
             Kind::Machine { code: Machine::SpindleCw | Machine::SpindleCcw, .. } => self.spindle = Spindle::On,
             Kind::Machine { code: Machine::SpindleOff, .. } | Kind::End => {
@@ -224,7 +239,9 @@ impl<'c> Checker<'c> {
         self.findings.sort_by_key(|f| f.order);
         self.summary.measure_cut(self.sim.field(), self.tolerance);
         self.summary.describe_tools(self.config);
-        (Verdict { findings: self.findings, summary: self.summary }, self.sim.finish())
+        let (planned, line_times) = self.timing.finish();
+        self.summary.planned = planned;
+        (Verdict { findings: self.findings, summary: self.summary, line_times }, self.sim.finish())
     }
 
     /// Takes what the simulation has reported and forgets the moves it is done with.

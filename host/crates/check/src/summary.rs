@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use crate::timing::Planned;
 use crate::Rule;
 use ger_core::config::{Config, ToolKind};
 use ger_core::statement::{Distance, Kind, Statement};
@@ -64,11 +65,14 @@ pub struct Summary {
     pub cutting_distance: f64,
     /// Distance at rapid (G00).
     pub rapid_distance: f64,
-    /// Feed moves at their F, rapids at `rapid_rate` (each axis at that
-    /// speed, the slowest deciding), dwells; acceleration is not modelled.
+    /// At programmed feeds: feed moves at their F, rapids at `rapid_rate`
+    /// (each axis at that speed, the slowest deciding), dwells; acceleration
+    /// is not modelled (`planned` models it).
     pub run_time_seconds: f64,
     /// Units per minute.
     pub rapid_rate: f64,
+    /// The run time the motion planner gives, on the machine's profile.
+    pub planned: Planned,
     /// In the order they are first used.
     pub tools: Vec<ToolUse>,
     /// How many times each code runs (after translation: subprograms and
@@ -88,6 +92,7 @@ impl Summary {
             rapid_distance: 0.0,
             run_time_seconds: 0.0,
             rapid_rate: config.rapid_rate(),
+            planned: Planned::unplanned(config),
             tools: Vec::new(),
             codes: BTreeMap::new(),
             problems: BTreeMap::new(),

@@ -226,3 +226,51 @@ fn past_a_hundred_a_rule_only_counts_and_batches_do_not_lose_moves() {
     assert_eq!(verdict.findings.len(), SHOWN_PER_RULE as usize);
     assert_eq!(verdict.findings[99].diagnostic.span.line, 103);
 }
+
+#[test]
+fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
+    // Five 100 mm lines at 50 mm/s, each from rest to rest (each turns back
+    // on the last, or follows a tool change): 2 + 50 / 500 = 2.1 s each. The
+    // grbl-default profile: X at 500 mm/s².
+    let program = "G21\nG01 X100 F3000\nM98 P10\nM06 T2\nM98 P10\nM30\nO10\nG01 X0\nG01 X100\nM99\n";
+    let mut config = config();
+    config.tools.push(Tool { number: 2, ..config.tools[0].clone() });
+    let stock = Stock::from_config(&config).unwrap();
+    let sim = Simulation::new(stock, 1.0, 1 << 30).unwrap();
+    let mut checker = Checker::new(&config, sim, &[]).timing_lines();
+    for statement in testing::statements_with(program, &config) {
+        checker.statement(&statement);
+    }
+    let verdict = checker.finish();
+    let planned = &verdict.summary.planned;
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
+    assert!(near(planned.seconds, 5.0 * 2.1), "{planned:?}");
+    assert_eq!(planned.moving.map(|[a, b]| (near(a, 0.0), near(b, 10.5))), Some((true, true)), "{planned:?}");
+    let tools: Vec<(u32, f64)> = planned.tools.iter().map(|t| (t.number, t.seconds)).collect();
+    assert!(tools.len() == 2 && tools[0].0 == 1 && near(tools[0].1, 6.3), "{tools:?}");
+    assert!(tools[1].0 == 2 && near(tools[1].1, 4.2), "{tools:?}");
+    let calls: Vec<(&str, u32, f64)> = planned.calls.iter().map(|c| (c.name.as_str(), c.line, c.seconds)).collect();
+    assert!(calls.len() == 2 && calls.iter().all(|c| c.0 == "O10" && near(c.2, 4.2)), "{calls:?}");
+    assert_eq!((calls[0].1, calls[1].1), (3, 5));
+    // Each line is reached when the one before it is done; the call lines
+    // hold their subprogram's moves.
+    let expected = [0.0, 0.0, 2.1, 6.3, 6.3, 10.5];
+    assert_eq!(verdict.line_times.len(), expected.len(), "{:?}", verdict.line_times);
+    assert!(verdict.line_times.iter().zip(expected).all(|(a, b)| near(*a, b)), "{:?}", verdict.line_times);
+    // The profile is said: grbl-default, as no [machine.motion] is given.
+    assert_eq!((planned.profile.preset, planned.profile.configured), ("grbl-default", false));
+    assert_eq!(planned.profile.max_rate, [5000.0, 5000.0, 1000.0]);
+}
+
+#[test]
+fn statements_from_calls_belong_to_the_outermost_call() {
+    use ger_core::diag::{Origin, Span};
+    use std::sync::Arc;
+    // A wizard called at line 3 of subprogram O200, which the program calls at line 12.
+    let subprogram = Arc::new(Origin { what: "O200".into(), call: Span::new(12, 1, 4), parent: None });
+    let wizard = Arc::new(Origin { what: "Pocket".into(), call: Span::new(3, 1, 6), parent: Some(subprogram) });
+    let mut statement = Statement::new(ger_core::statement::Kind::End, Span::new(3, 1, 6));
+    assert_eq!(outermost_line(&statement), 3);
+    statement.origin = Some(wizard);
+    assert_eq!(outermost_line(&statement), 12);
+}

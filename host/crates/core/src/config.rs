@@ -8,6 +8,9 @@ use crate::parse::CodeLists;
 use crate::statement::{Dialect, Units};
 use crate::tools::ToolSource;
 
+mod motion;
+pub use motion::{GrblSettings, Machine, MotionConfig, MotionProfile, Preset, MAX_PLANNER_BLOCKS};
+
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
@@ -194,6 +197,8 @@ pub struct MachineSettings {
     /// `M98 L` repeats nested in one another, can still be work without end.
     #[serde(default = "default_max_blocks")]
     pub max_blocks: u64,
+    /// `[machine.motion]`: how the machine moves, for the planned run time.
+    pub motion: Option<MotionConfig>,
 }
 
 /// The most `[machine] max_iterations` and `max_blocks` may be: a program
@@ -238,6 +243,7 @@ impl Default for MachineSettings {
             spline_tolerance: None,
             max_iterations: default_max_iterations(),
             max_blocks: default_max_blocks(),
+            motion: None,
         }
     }
 }
@@ -731,6 +737,9 @@ impl Config {
             );
             return Err(at(&key("machine", "spline_tolerance"), message));
         }
+        if let Some(motion) = &machine.motion {
+            motion.validate(self.units, &at)?;
+        }
         let target = &self.target;
         if target.program_number.is_some_and(|n| !(1..=9999).contains(&n)) {
             let message = "[target] program_number must be from 1 to 9999, as a Fanuc's O number".to_string();
@@ -782,6 +791,15 @@ impl Config {
             Units::Inch => 200.0,
             Units::Mm => 5000.0,
         })
+    }
+
+    /// How the machine moves: `[machine.motion]`, or without it the
+    /// `grbl-default` preset in the machine's unit.
+    pub fn motion_profile(&self) -> MotionProfile {
+        match &self.machine.motion {
+            Some(motion) => motion.profile(self.units, true),
+            None => MotionConfig::default().profile(self.units, false),
+        }
     }
 
     /// How far a spline's arcs and lines may stray from it, in machine units.

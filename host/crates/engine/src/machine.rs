@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ger_core::config::{locate, Config, Step, StockConfig, TargetName};
+use ger_core::config::{locate, Config, GrblSettings, Step, StockConfig, TargetName};
 use ger_core::diag::Diagnostic;
 use ger_core::statement::{Dialect, Units};
 use ger_core::tools;
@@ -89,6 +89,11 @@ impl Settings {
                 for dir in &mut config.dialect.subroutine_path {
                     *dir = folder.join(&*dir);
                 }
+                if let Some(motion) = &mut config.machine.motion {
+                    if let Some(file) = &motion.grbl_settings {
+                        motion.grbl = Some(grbl_settings(&folder.join(file))?);
+                    }
+                }
                 config
             }
             _ => Config::default(),
@@ -123,6 +128,13 @@ impl Settings {
         let diagnostic = Diagnostic::error(locate(&text, steps), message);
         Some(ConfigError::Invalid { name: path.display().to_string(), text, diagnostic })
     }
+}
+
+/// A file of GRBL settings (`[machine.motion] grbl_settings`), as `$$` prints them.
+fn grbl_settings(path: &Path) -> Result<GrblSettings, ConfigError> {
+    let name = path.display().to_string();
+    let text = read(path, &name)?;
+    GrblSettings::parse(&text).map_err(|diagnostic| ConfigError::Invalid { name, text, diagnostic })
 }
 
 fn read(path: &Path, name: &str) -> Result<String, ReadError> {

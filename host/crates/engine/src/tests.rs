@@ -180,6 +180,33 @@ fn the_machine_is_the_config_beside_the_program_with_the_settings_over_it() {
 }
 
 #[test]
+fn grbl_settings_are_read_from_beside_the_config_and_scaled_to_the_machine_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("machine")).unwrap();
+    std::fs::write(dir.path().join("ger.toml"), "[machine.motion]\ngrbl_settings = \"machine/grbl.txt\"\n").unwrap();
+    std::fs::write(dir.path().join("machine/grbl.txt"), "$100=80.000\n$110=2540.000\n$122=50.8\nok\n").unwrap();
+    let source = Source::text("part.nc", dir.path(), SLOT);
+    let config = Settings::default().load(&source, Purpose::Translate).unwrap();
+    let profile = config.motion_profile();
+    // The settings are in millimetres, the machine in inches: 2540 mm/min is 100 in/min.
+    assert!((profile.machine.max_rate[0] - 100.0).abs() < 1e-9, "{profile:?}");
+    assert!((profile.machine.acceleration[2] - 2.0).abs() < 1e-9, "{profile:?}");
+    assert!((profile.machine.steps_per_unit[0] - 80.0 * 25.4).abs() < 1e-9, "{profile:?}");
+    assert_eq!(profile.grbl_settings.as_deref(), Some(std::path::Path::new("machine/grbl.txt")));
+
+    // A bad line is an error in that file, at its line and column.
+    std::fs::write(dir.path().join("machine/grbl.txt"), "$110=2540.000\n$111=fast\n").unwrap();
+    let err = Settings::default().load(&source, Purpose::Translate).unwrap_err();
+    let shown = err.render(false);
+    assert!(shown.contains("grbl.txt:2:6"), "{shown}");
+    assert!(shown.contains("`fast` is not a number"), "{shown}");
+    // A missing one is an error naming it.
+    std::fs::remove_file(dir.path().join("machine/grbl.txt")).unwrap();
+    let err = Settings::default().load(&source, Purpose::Translate).unwrap_err();
+    assert!(err.to_string().contains("grbl.txt"), "{err}");
+}
+
+#[test]
 fn a_subroutine_the_program_does_not_define_is_read_from_its_file() {
     // LinuxCNC's SUBROUTINE_PATH: `o<frame> call` finds frame.ngc beside the program, then in the
     // folders of [dialect] subroutine_path (from the config's folder). Lines outside the sub in

@@ -13,11 +13,10 @@ use serde::Serialize;
 use tokio::sync::watch;
 
 use crate::{Error, Options};
-use ger_engine::check::{Checker, Rule};
+use ger_engine::check::{outermost_line, Checker, Rule};
 use ger_engine::core::diag::{Diagnostic, Severity, Span};
 use ger_engine::core::emit::{preamble, Emitter};
 use ger_engine::core::passes::Event;
-use ger_engine::core::statement::Statement;
 use ger_engine::render::pieces::{self, Piece};
 use ger_engine::sim::{HeightField, Step, Stock, Walker};
 use ger_engine::{Program, Purpose, Resolution, Silent, Source};
@@ -351,6 +350,24 @@ struct Made {
     pieces: Vec<Piece>,
     /// The cell pieces were made within.
     cell: f64,
+    /// The planned run time, when the program moves.
+    run_time: Option<RunTime>,
+}
+
+/// The planned run time, as the snapshot gives it.
+#[derive(Default, Serialize)]
+struct RunTime {
+    seconds: f64,
+    /// The profile's preset, and whether ger.toml's [machine.motion] set it.
+    preset: &'static str,
+    configured: bool,
+    /// When the run reaches each line of the program (1 first), seconds.
+    lines: Vec<f64>,
+}
+
+/// To the hundredth of a second: the page shows no finer, and the snapshot stays short.
+fn centiseconds(seconds: f64) -> f64 {
+    (seconds * 100.0).round() / 100.0
 }
 
 /// Translates, checks and simulates `opened` on the machine `options` describe.
@@ -379,7 +396,7 @@ fn make(options: &Options, opened: &Opened) -> Made {
     let simulation = stock.map(|stock| program.simulation(stock, asked));
     let config = program.config().clone();
     let mut checker = simulation.and_then(|simulation| match simulation {
-        Ok(sim) => Some(Checker::new(&config, sim, &[])),
+        Ok(sim) => Some(Checker::new(&config, sim, &[]).timing_lines()),
         Err(refused) => {
             made.problems.push(refused.message);
             None
@@ -415,6 +432,13 @@ fn make(options: &Options, opened: &Opened) -> Made {
     if let Some(checker) = checker {
         let (verdict, field) = checker.finish_with_part();
         made.findings = verdict.findings.into_iter().map(|f| (f.rule, f.diagnostic)).collect();
+        let planned = &verdict.summary.planned;
+        made.run_time = planned.moving.is_some().then(|| RunTime {
+            seconds: centiseconds(planned.seconds),
+            preset: planned.profile.preset,
+            configured: planned.profile.configured,
+            lines: verdict.line_times.iter().map(|t| centiseconds(*t)).collect(),
+        });
         let failed_before_moving = made.pieces.is_empty() && made.findings.iter().any(|(_, d)| d.is_error());
         made.field = (!failed_before_moving).then_some(field);
     }
@@ -425,17 +449,6 @@ fn make(options: &Options, opened: &Opened) -> Made {
 fn view_cell(stock: &Stock) -> f64 {
     let size = stock.size();
     size[0].max(size[1]) / CELLS
-}
-
-/// The program line a statement comes from: its own, or its outermost call's.
-fn outermost_line(statement: &Statement) -> u32 {
-    let mut line = statement.span.line;
-    let mut next = statement.origin.as_deref();
-    while let Some(origin) = next {
-        line = origin.call.line;
-        next = origin.parent.as_deref();
-    }
-    line
 }
 
 #[derive(Serialize)]
@@ -449,6 +462,7 @@ struct Body<'a> {
     diagnostics: Vec<JsonDiagnostic>,
     part: Option<Part>,
     path: PathSummary,
+    run_time: Option<RunTime>,
     elapsed_ms: u64,
 }
 
@@ -563,6 +577,7 @@ fn snapshot(version: u64, program: &Opened, made: Made, elapsed_ms: u64) -> Snap
         diagnostics,
         part,
         path: PathSummary { pieces: sent.len(), total, decimated: sent.len() < total, min, max },
+        run_time: made.run_time,
         elapsed_ms,
     };
     let json = serde_json::to_string(&body).expect("the snapshot serialises: no maps, no non-string keys");
@@ -636,17 +651,5 @@ mod tests {
         assert_eq!(columns.utf16(1, 4), 3);
         assert_eq!(columns.utf16(2, 8), 6);
         assert_eq!(columns.utf16(9, 3), 3);
-    }
-
-    #[test]
-    fn statements_from_calls_belong_to_the_outermost_call() {
-        use ger_engine::core::diag::Origin;
-        // A wizard called at line 3 of subprogram O200, which the program calls at line 12.
-        let subprogram = Arc::new(Origin { what: "O200".into(), call: Span::new(12, 1, 4), parent: None });
-        let wizard = Arc::new(Origin { what: "Pocket".into(), call: Span::new(3, 1, 6), parent: Some(subprogram) });
-        let mut statement = Statement::new(ger_engine::core::statement::Kind::End, Span::new(3, 1, 6));
-        assert_eq!(outermost_line(&statement), 3);
-        statement.origin = Some(wizard);
-        assert_eq!(outermost_line(&statement), 12);
     }
 }

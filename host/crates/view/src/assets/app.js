@@ -1015,6 +1015,23 @@ function select(selection, { revealOutput = false, revealSource = false } = {}) 
       ? `output line ${selection.out + 1}${src ? ` ← program line ${src}` : ''}`
       : `program line ${selection.src}`;
   $('selection').textContent = what && `${what}; ${pieces} piece${pieces === 1 ? '' : 's'}`;
+  showRunTime(src);
+}
+
+/** "3 min 05 s", "1 h 02 min", "12.5 s", as `ger check` says a time. */
+function duration(seconds) {
+  const whole = Math.round(seconds);
+  if (whole >= 3600) return `${Math.floor(whole / 3600)} h ${String(Math.floor((whole % 3600 + 30) / 60)).padStart(2, '0')} min`;
+  if (whole >= 60) return `${Math.floor(whole / 60)} min ${String(whole % 60).padStart(2, '0')} s`;
+  return `${seconds.toFixed(1)} s`;
+}
+
+/** The planned run time, and when the run reaches program line `src` (0: none selected). */
+function showRunTime(src) {
+  const run = app.snapshot && app.snapshot.run_time;
+  const at = run && src ? run.lines[src - 1] : undefined;
+  const total = run ? `${duration(run.seconds)} planned (${run.preset}${run.configured ? '' : ', no [machine.motion]'})` : '';
+  $('runTime').textContent = at === undefined ? total : `reaches line ${src} at ${duration(at)} of ${total}`;
 }
 
 let messageTimer = 0;

@@ -1,0 +1,262 @@
+//! The planner: straight blocks in, each block's time out, as a controller
+//! with look-ahead runs them.
+//!
+//! Each block accelerates, cruises and decelerates (a trapezoid, or a
+//! triangle when it is too short to reach its speed). Its speed and
+//! acceleration are the most every axis allows along its direction. Two
+//! blocks meet at the speed Sonny Jeon's junction deviation gives: the
+//! speed at which a circle tangent to both, whose edge comes within the
+//! junction deviation of the corner, can be followed at the acceleration
+//! the axes allow along the corner's direction. The planner holds the last
+//! few blocks (the controller's buffer) and plans them so that the machine
+//! can stop at the end of the last one: a reverse pass from it lowers each
+//! entry speed to what the blocks after it can brake from, a forward pass
+//! lowers each to what the blocks before it can reach. A block leaves the
+//! buffer, and its time is known, when a new block needs its place.
+
+use std::collections::VecDeque;
+
+use ger_core::config::Machine;
+use ger_sim::Point;
+
+/// Where a block's time is counted: the caller's tag, when it starts (seconds
+/// from the program's start) and how long it takes.
+pub trait Clock<T> {
+    fn tick(&mut self, tag: &T, start: f64, seconds: f64);
+}
+
+impl<T, F: FnMut(&T, f64, f64)> Clock<T> for F {
+    fn tick(&mut self, tag: &T, start: f64, seconds: f64) {
+        self(tag, start, seconds)
+    }
+}
+
+/// Below this cosine two blocks run on in a straight line; above its
+/// negative one turns back on the other.
+const STRAIGHT: f64 = 0.999999;
+
+/// A straight move in the buffer.
+#[derive(Clone, Debug)]
+struct Block<T> {
+    length: f64,
+    /// Units per second squared, along the block.
+    acceleration: f64,
+    /// Units per second.
+    nominal: f64,
+    /// The most the entry speed may be (squared): the junction's, and neither block's nominal.
+    max_entry_sqr: f64,
+    /// The most it may be for the machine to stop at the end of the buffer (squared).
+    braking_sqr: f64,
+    /// As planned (squared).
+    entry_sqr: f64,
+    tag: T,
+}
+
+/// The speeds at which blocks are planned, and the clock they run on.
+#[derive(Debug)]
+pub struct Planner<T> {
+    /// Units per second.
+    max_rate: [f64; 3],
+    acceleration: [f64; 3],
+    junction_deviation: f64,
+    /// Steps per unit of each axis: blocks run between whole steps.
+    steps: Point,
+    /// Where the last block ends, on the steps' grid.
+    position: Point,
+    /// How many blocks the buffer holds: one less than the controller's
+    /// buffer, as GRBL's ring keeps one slot empty to tell full from empty.
+    capacity: usize,
+    /// The slowest a feed move goes, units per second.
+    min_feed: f64,
+    blocks: VecDeque<Block<T>>,
+    /// The last block's direction and nominal speed, while the machine has not stopped since.
+    previous: Option<(Point, f64)>,
+    /// The time the blocks executed so far take.
+    clock: f64,
+    /// When the first block started and the last one ended.
+    moving: Option<(f64, f64)>,
+}
+
+/// How fast a block is asked to go.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Speed {
+    /// As fast as the axes go (G00).
+    Rapid,
+    /// A feed, units per minute.
+    Feed(f64),
+}
+
+impl<T> Planner<T> {
+    /// A planner for `machine`, whose numbers are in one unit; `min_feed`
+    /// (units per minute) is the slowest any feed runs.
+    pub fn new(machine: &Machine, min_feed: f64) -> Planner<T> {
+        Planner {
+            max_rate: machine.max_rate.map(|v| v / 60.0),
+            acceleration: machine.acceleration,
+            junction_deviation: machine.junction_deviation,
+            steps: Point::from_array(machine.steps_per_unit),
+            position: Point::ZERO,
+            capacity: machine.planner_blocks.saturating_sub(1).max(1),
+            min_feed: min_feed / 60.0,
+            blocks: VecDeque::with_capacity(machine.planner_blocks),
+            previous: None,
+            clock: 0.0,
+            moving: None,
+        }
+    }
+
+    /// The time of everything executed so far.
+    pub fn elapsed(&self) -> f64 {
+        self.clock
+    }
+
+    /// When the first block started and the last executed one ended, if any moved.
+    pub fn moving(&self) -> Option<(f64, f64)> {
+        self.moving
+    }
+
+    /// Plans a straight move to `target`, from where the last ended, as the
+    /// controller moves: to the nearest whole step of each axis. Blocks
+    /// that leave the buffer to make room are timed on `clock`. A move of
+    /// no steps is no block.
+    pub fn push(&mut self, target: Point, speed: Speed, tag: T, clock: &mut impl Clock<T>) {
+        let target = (target * self.steps).round() / self.steps;
+        let delta = target - self.position;
+        let length = delta.length();
+        if !(length > 0.0) || !length.is_finite() {
+            return;
+        }
+        self.position = target;
+        let unit = delta / length;
+        let fastest = limit(self.max_rate, unit);
+        let nominal = match speed {
+            Speed::Rapid => fastest,
+            Speed::Feed(feed) => (feed / 60.0).max(self.min_feed).min(fastest),
+        };
+        let acceleration = limit(self.acceleration, unit);
+        let max_entry_sqr = match self.previous {
+            None => 0.0,
+            Some((previous, previous_nominal)) => {
+                let junction = self.junction_sqr(previous, unit);
+                junction.min(previous_nominal * previous_nominal).min(nominal * nominal)
+            }
+        };
+        if self.blocks.len() >= self.capacity {
+            self.execute_front(clock);
+        }
+        self.previous = Some((unit, nominal));
+        let block = Block {
+            length,
+            acceleration,
+            nominal,
+            max_entry_sqr,
+            braking_sqr: 0.0,
+            entry_sqr: max_entry_sqr,
+            tag,
+        };
+        self.blocks.push_back(block);
+        self.replan();
+    }
+
+    /// Runs every block in the buffer to a stop.
+    pub fn stop(&mut self, clock: &mut impl Clock<T>) {
+        while !self.blocks.is_empty() {
+            self.execute_front(clock);
+        }
+        self.previous = None;
+    }
+
+    /// Stops, then waits `seconds` (a dwell, a tool change).
+    pub fn wait(&mut self, seconds: f64, tag: T, clock: &mut impl Clock<T>) {
+        self.stop(clock);
+        if seconds > 0.0 {
+            clock.tick(&tag, self.clock, seconds);
+            self.clock += seconds;
+        }
+    }
+
+    /// The fastest two blocks may meet at (squared), from `previous`'s
+    /// direction into `unit`'s.
+    fn junction_sqr(&self, previous: Point, unit: Point) -> f64 {
+        // The cosine of the angle between the reversed previous direction and this one.
+        let cos_theta = -previous.dot(unit);
+        if cos_theta > STRAIGHT {
+            return 0.0;
+        }
+        if cos_theta < -STRAIGHT {
+            return f64::INFINITY;
+        }
+        let sin_half = (0.5 * (1.0 - cos_theta)).sqrt();
+        let towards = (unit - previous).normalize_or_zero();
+        let acceleration = limit(self.acceleration, towards);
+        acceleration * self.junction_deviation * sin_half / (1.0 - sin_half)
+    }
+
+    /// The reverse pass from the newest block, which must be able to stop,
+    /// then the forward pass from the oldest, whose entry is fixed.
+    fn replan(&mut self) {
+        let n = self.blocks.len();
+        // Back to the oldest block whose braking limit does not change.
+        let mut exit_sqr = 0.0;
+        let mut from = 0;
+        for i in (1..n).rev() {
+            let block = &mut self.blocks[i];
+            let braking = block.max_entry_sqr.min(exit_sqr + 2.0 * block.acceleration * block.length);
+            if i < n - 1 && braking == block.braking_sqr {
+                from = i;
+                break;
+            }
+            block.braking_sqr = braking;
+            exit_sqr = braking;
+        }
+        // The oldest block has started: its entry stays.
+        for i in from.max(1)..n {
+            let before = &self.blocks[i - 1];
+            let reachable = before.entry_sqr + 2.0 * before.acceleration * before.length;
+            let block = &mut self.blocks[i];
+            block.entry_sqr = block.braking_sqr.min(reachable);
+        }
+    }
+
+    /// The oldest block runs: from its entry to the next block's.
+    fn execute_front(&mut self, clock: &mut impl Clock<T>) {
+        let Some(block) = self.blocks.pop_front() else { return };
+        let exit_sqr = self.blocks.front().map_or(0.0, |next| next.entry_sqr);
+        let seconds = trapezoid(block.length, block.acceleration, block.nominal, block.entry_sqr, exit_sqr);
+        clock.tick(&block.tag, self.clock, seconds);
+        let start = self.moving.map_or(self.clock, |(start, _)| start);
+        self.clock += seconds;
+        self.moving = Some((start, self.clock));
+    }
+}
+
+/// The most a quantity (a rate, an acceleration) may be along `unit` when
+/// each axis's share may be at most `axes`.
+fn limit(axes: [f64; 3], unit: Point) -> f64 {
+    let mut most = f64::INFINITY;
+    for (axis, &limit) in axes.iter().enumerate() {
+        let share = unit[axis].abs();
+        if share > 0.0 {
+            most = most.min(limit / share);
+        }
+    }
+    most
+}
+
+/// How long a block of `length` takes from an entry speed to an exit speed
+/// (both squared), accelerating and braking at `acceleration`, no faster
+/// than `nominal`.
+pub fn trapezoid(length: f64, acceleration: f64, nominal: f64, entry_sqr: f64, exit_sqr: f64) -> f64 {
+    let (entry, exit) = (entry_sqr.sqrt(), exit_sqr.sqrt());
+    let nominal_sqr = nominal * nominal;
+    let accelerating = (nominal_sqr - entry_sqr) / (2.0 * acceleration);
+    let braking = (nominal_sqr - exit_sqr) / (2.0 * acceleration);
+    if accelerating + braking <= length {
+        (nominal - entry) / acceleration + (nominal - exit) / acceleration + (length - accelerating - braking) / nominal
+    } else {
+        // Never reaches its speed: up to a peak, straight back down.
+        let peak_sqr = (acceleration * length + 0.5 * (entry_sqr + exit_sqr)).max(entry_sqr.max(exit_sqr));
+        let peak = peak_sqr.sqrt();
+        (peak - entry) / acceleration + (peak - exit) / acceleration
+    }
+}

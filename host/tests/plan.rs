@@ -1,0 +1,311 @@
+//! ger's planned run time against GRBL's own: each program is translated
+//! with `--target grbl` and timed by GRBL 1.1h's planner and stepper code
+//! (`../shared/peers/grbl/gtime.py`, on the peer's default profile, which is
+//! ger's `grbl-default`), and `ger check --format json` plans the same
+//! program; the two must agree within 2% for every program. The figures are
+//! kept in `tests/corpus/PLAN.md`; this test fails when they change
+//! (`UPDATE_EXPECT=1 cargo test --test plan` rewrites the file, to review
+//! with `git diff`).
+//!
+//! gtime simulates every step interrupt, five to ten seconds of machine
+//! time per second of CPU, so the programs are those it times in reason:
+//! every program of `tests/check/` that translates, the corpus's mill
+//! programs (with and without macro programming) of at most `MOST_LINES`
+//! lines whose planned time is at most `MOST_SECONDS`, and 2000 lines of
+//! CAMotics' tiger relief, short moves over the relief (all of it takes GRBL
+//! five hours, an hour of gtime: its figure is in the README). gtime runs on
+//! both cores at once.
+//!
+//! GRBL's clock runs from the first step to the last: ger's figure here is
+//! the same span (`planned.moving`), without a dwell before the first move
+//! or after the last. An `M00` pause waits for the operator, which gtime
+//! refuses to time: in the program GRBL runs it is `G4 P0`, a stop of no
+//! time, as ger plans a pause.
+
+mod support;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Mutex;
+use std::time::Duration;
+
+use support::corpus::{self, Class};
+
+/// A corpus program longer than this is not planned here (its check alone is slow in a debug build).
+const MOST_LINES: usize = 5000;
+/// Nor one that takes longer than this on the machine.
+const MOST_SECONDS: f64 = 60.0;
+/// The tiger relief's short moves over the relief: its lines after this many...
+const TIGER_FROM: usize = 46_100;
+/// ...this many of them...
+const TIGER_LINES: usize = 2000;
+/// ...after a move to where line 46,100 leaves the tool.
+const TIGER_START: &str = "G17 G21 G90 G94 M3\nG0 Z5\nG0 X14.833 Y32.167\nG1 Z-20.984 F300\n";
+/// The largest difference allowed, as a fraction of GRBL's time.
+const TOLERANCE: f64 = 0.02;
+/// Only for a run that hangs.
+const WALL_LIMIT: Duration = Duration::from_secs(1800);
+
+fn repository() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn gtime() -> PathBuf {
+    repository().join("../shared/peers/grbl/gtime.py")
+}
+
+/// A program to time, and how ger reads it.
+struct Job {
+    /// As the table names it.
+    name: String,
+    file: PathBuf,
+    /// `--lenient --units U`, for the corpus's programs.
+    units: Option<&'static str>,
+    config: PathBuf,
+}
+
+/// What ger says of a program: its planned span of moves, and the time at programmed feeds.
+struct Planned {
+    moving: f64,
+    programmed: f64,
+    lines: usize,
+}
+
+fn ger(job: &Job, args: &[&str]) -> support::process::Finished {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_ger"));
+    command.args(args);
+    if let Some(units) = job.units {
+        command.args(["--lenient", "--units", units]);
+    }
+    command.arg("--config").arg(&job.config).arg(&job.file).env("NO_COLOR", "1");
+    support::process::run(&mut command, WALL_LIMIT)
+}
+
+/// `ger check --format json`'s planned time, if the program translates and moves.
+fn plan(job: &Job) -> Option<Planned> {
+    let run = ger(job, &["check", "--quiet", "--format", "json"]);
+    assert!(!run.timed_out, "{}: ger check ran too long", job.name);
+    let report: serde_json::Value = serde_json::from_str(&run.stdout).ok()?;
+    let summary = &report["summary"];
+    let [start, end] = [0, 1].map(|i| summary["planned"]["moving"][i].as_f64());
+    Some(Planned {
+        moving: end? - start?,
+        programmed: summary["run_time_seconds"].as_f64()?,
+        lines: std::fs::read(&job.file).map_or(0, |b| b.split(|c| *c == b'\n').count()),
+    })
+}
+
+/// The program as GRBL runs it: ger's output for it, pauses made stops.
+fn for_grbl(job: &Job) -> Option<String> {
+    let run = ger(job, &["run", "--target", "grbl"]);
+    if run.code != Some(0) {
+        return None;
+    }
+    let lines: Vec<&str> = run.stdout.lines().map(|line| if is_pause(line) { "G4 P0" } else { line }).collect();
+    Some(lines.join("\n") + "\n")
+}
+
+/// An `M00` line of ger's output (`N120 M00 (MSG, load tool 2)`).
+fn is_pause(line: &str) -> bool {
+    let code = line.trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit() || c == ' ');
+    code == "M00" || code.starts_with("M00 ")
+}
+
+/// GRBL's time for `program` (written in `scratch` as `name`), seconds.
+fn grbl_time(scratch: &Path, name: &str, program: &str) -> Result<f64, String> {
+    let file = scratch.join(name.replace(['/', ' '], "_") + ".nc");
+    std::fs::write(&file, program).unwrap();
+    let run = support::process::run(Command::new("python3").arg(gtime()).arg(&file), WALL_LIMIT);
+    if run.timed_out {
+        return Err("gtime ran too long".into());
+    }
+    let _ = std::fs::remove_file(&file);
+    match run.code {
+        Some(0) => run.stdout.trim().parse().map_err(|_| format!("gtime printed {:?}", run.stdout)),
+        _ => Err(format!("gtime failed: {}", run.stderr.lines().take(3).collect::<Vec<_>>().join(" / "))),
+    }
+}
+
+struct Row {
+    name: String,
+    lines: usize,
+    grbl: f64,
+    ger: f64,
+    programmed: f64,
+}
+
+impl Row {
+    fn error(&self) -> f64 {
+        relative(self.ger, self.grbl)
+    }
+}
+
+fn relative(ours: f64, theirs: f64) -> f64 {
+    if theirs == 0.0 {
+        if ours == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        (ours - theirs) / theirs
+    }
+}
+
+/// The programs: `tests/check/`, the corpus's short ones, part of the tiger.
+fn jobs(scratch: &Path) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    let cases = repository().join("tests/check");
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&cases)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        .collect();
+    names.sort();
+    for file in names {
+        let config = file.with_extension("toml");
+        let name = format!("tests/check/{}", file.file_name().unwrap().to_string_lossy());
+        jobs.push(Job { name, file, units: None, config });
+    }
+    let corpus = corpus::dir();
+    let config = corpus::ger_config(scratch);
+    for entry in corpus::entries(&corpus) {
+        if !matches!(entry.class(), Class::Mill | Class::Macro) {
+            continue;
+        }
+        let file = corpus.join(&entry.path);
+        let lines = std::fs::read(&file).map_or(usize::MAX, |b| b.split(|c| *c == b'\n').count());
+        if lines <= MOST_LINES {
+            jobs.push(Job { name: entry.path.clone(), file, units: Some(entry.units()), config: config.clone() });
+        }
+    }
+    let tiger = std::fs::read_to_string(corpus.join("camotics-examples/tiger/tiger.nc")).unwrap();
+    let passes: String = tiger.lines().skip(TIGER_FROM).take(TIGER_LINES).map(|l| format!("{l}\n")).collect();
+    let file = scratch.join("tiger-passes.nc");
+    std::fs::write(&file, format!("{TIGER_START}{passes}")).unwrap();
+    let name = format!("camotics-examples/tiger/tiger.nc, lines {} to {}", TIGER_FROM + 1, TIGER_FROM + TIGER_LINES);
+    jobs.push(Job { name, file, units: Some("mm"), config });
+    jobs
+}
+
+#[test]
+fn the_planned_time_is_grbls_within_two_percent() {
+    let corpus = corpus::dir();
+    if !corpus.join("INDEX.tsv").exists() {
+        support::peer_missing(&format!("the corpus is not at {}: the plan test did NOT run", corpus.display()));
+        return;
+    }
+    if !gtime().is_file() {
+        support::peer_missing(&format!("GRBL's gtime.py is not at {}: the plan test did NOT run", gtime().display()));
+        return;
+    }
+    let scratch = tempfile::tempdir().unwrap();
+    let jobs = jobs(scratch.path());
+    // Two workers: ger's check, then gtime, one program at a time each.
+    let next = Mutex::new(0);
+    let rows = Mutex::new(Vec::new());
+    let failures = Mutex::new(Vec::new());
+    let gtime_wall = Mutex::new(Duration::ZERO);
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| loop {
+                let index = {
+                    let mut next = next.lock().unwrap();
+                    *next += 1;
+                    *next - 1
+                };
+                let Some(job) = jobs.get(index) else { break };
+                let Some(planned) = plan(job) else { continue };
+                let in_corpus = job.units.is_some() && !job.name.contains("tiger");
+                if in_corpus && planned.moving > MOST_SECONDS {
+                    continue;
+                }
+                let Some(program) = for_grbl(job) else { continue };
+                let started = std::time::Instant::now();
+                match grbl_time(scratch.path(), &job.name, &program) {
+                    Ok(grbl) => rows.lock().unwrap().push(Row {
+                        name: job.name.clone(),
+                        lines: planned.lines,
+                        grbl,
+                        ger: planned.moving,
+                        programmed: planned.programmed,
+                    }),
+                    Err(why) => failures.lock().unwrap().push(format!("{}: {why}", job.name)),
+                }
+                *gtime_wall.lock().unwrap() += started.elapsed();
+            });
+        }
+    });
+    let mut rows = rows.into_inner().unwrap();
+    rows.sort_by(|a, b| a.name.cmp(&b.name));
+    let failures = failures.into_inner().unwrap();
+    eprintln!("gtime ran {} programs in {:.0} s of its wall time", rows.len(), gtime_wall.into_inner().unwrap().as_secs_f64());
+
+    let table = table(&rows);
+    let path = repository().join("tests/corpus/PLAN.md");
+    if std::env::var_os("UPDATE_EXPECT").is_some() {
+        std::fs::write(&path, &table).unwrap();
+    }
+    assert!(failures.is_empty(), "GRBL could not time {} programs:\n{}", failures.len(), failures.join("\n"));
+    assert!(rows.len() > 90, "only {} programs timed", rows.len());
+    let off: Vec<String> = rows
+        .iter()
+        .filter(|r| r.error().abs() > TOLERANCE)
+        .map(|r| format!("{}: ger {:.3} s, GRBL {:.3} s ({:+.2}%)", r.name, r.ger, r.grbl, 100.0 * r.error()))
+        .collect();
+    assert!(off.is_empty(), "ger's planned time is more than 2% off GRBL's for:\n{}", off.join("\n"));
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        committed == table,
+        "the planned times changed: review them with `UPDATE_EXPECT=1 cargo test --test plan` and `git diff {}`",
+        path.display()
+    );
+}
+
+/// `tests/corpus/PLAN.md`.
+fn table(rows: &[Row]) -> String {
+    let mean = |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).sum::<f64>() / rows.len().max(1) as f64;
+    let worst = |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
+    let planned = |r: &Row| r.error();
+    let programmed = |r: &Row| relative(r.programmed, r.grbl);
+    let mut out = String::new();
+    let _ = writeln!(out, "# ger's planned run time against GRBL's\n");
+    let _ = writeln!(
+        out,
+        "Written by `host/tests/plan.rs` (`UPDATE_EXPECT=1 cargo test --test plan`): each program translated with \
+         `ger run --target grbl` and timed by GRBL 1.1h's own planner and stepper (`../shared/peers/grbl/gtime.py`, \
+         its default profile), beside `ger check`'s planned time on the same profile (`grbl-default`, from the first \
+         move to the last, as GRBL's clock runs) and its time at programmed feeds (no acceleration). The programs: \
+         every one of `tests/check/` that translates, the corpus's mill programs of at most {MOST_LINES} lines that \
+         take at most {MOST_SECONDS} s, and {TIGER_LINES} lines of the tiger relief's passes over the relief, after a \
+         move to where they start.\n"
+    );
+    let _ = writeln!(
+        out,
+        "**{} programs: ger's planned time is GRBL's within {:.3}% on average (mean absolute difference), {:.3}% at \
+         worst. At programmed feeds: {:.2}% on average, {:.1}% at worst.**\n",
+        rows.len(),
+        mean(&planned),
+        worst(&planned),
+        mean(&programmed),
+        worst(&programmed)
+    );
+    let _ = writeln!(out, "| program | lines | GRBL (s) | ger planned (s) | difference | at programmed feeds (s) | difference |");
+    let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "| `{}` | {} | {:.3} | {:.3} | {:+.3}% | {:.3} | {:+.2}% |",
+            r.name.replace('|', "\\|"),
+            r.lines,
+            r.grbl,
+            r.ger,
+            100.0 * r.error(),
+            r.programmed,
+            100.0 * relative(r.programmed, r.grbl)
+        );
+    }
+    out
+}
