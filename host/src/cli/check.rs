@@ -41,7 +41,8 @@ pub(crate) struct CheckArgs {
     #[arg(long, value_enum, value_name = "WHAT")]
     deny: Option<Deny>,
     /// Do not make this check (repeatable): rapid-into-stock, spindle-off,
-    /// flute-length, plunge, below-stock, travel, arc-radius, default-tool.
+    /// flute-length, plunge, below-stock, travel, arc-radius, default-tool,
+    /// collision, clearance, fixture.
     #[arg(long, value_name = "CHECK", value_parser = rule)]
     allow: Vec<Rule>,
     /// The side of a simulation cell, in machine units [default: the
@@ -177,6 +178,19 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
         .collect();
     let tools = if tools.is_empty() { "none".to_string() } else { tools.join("\n            ") };
     let _ = writeln!(out, "  tools     {tools}");
+    // What the collision check sees of each tool, so that nobody trusts a check they did not configure.
+    let assemblies: Vec<String> = s
+        .tools
+        .iter()
+        .filter(|t| t.kind.is_some())
+        .map(|t| match t.unchecked {
+            Some(unchecked) => format!("tool {}: {unchecked}", t.number),
+            None => format!("tool {}: shank and holder checked", t.number),
+        })
+        .collect();
+    if !assemblies.is_empty() {
+        let _ = writeln!(out, "  assembly  {}", assemblies.join("\n            "));
+    }
     let codes: Vec<String> = s.codes.iter().map(|(code, n)| format!("{code} {n}")).collect();
     let _ = writeln!(out, "  codes     {}", codes.join(", "));
     if !s.problems.is_empty() {
