@@ -18,7 +18,7 @@ use ger_engine::{Culprit, Purpose, Refused, Resolution, Source};
 use ger_output::OutputFile;
 use ger_render::{mesh::Mesh, top, view};
 use ger_sim::pulses::Pulser;
-use ger_sim::Point;
+use ger_sim::{Point, Solid};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Format {
@@ -278,7 +278,8 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32> {
             save(output, &args.output, |out| image.write_png(out))?;
         }
         Format::ThreeD => {
-            let (mut image, projection) = view::render(&field, &camera);
+            let fixtures = Solid::fixtures(program.config());
+            let (mut image, projection) = view::render(&field, &fixtures, &camera);
             if args.with_toolpath {
                 let mut painter = view::PathPainter::new(&mut image, projection);
                 program.toolpath(|m| {

@@ -16,7 +16,7 @@ use std::collections::VecDeque;
 use std::sync::Arc;
 
 pub use ger_core::config::Rule;
-use ger_core::config::{Config, Coordinates, Fixture, ToolKind};
+use ger_core::config::{Config, ToolKind};
 use ger_core::diag::{Diagnostic, Origin, Span};
 use ger_core::statement::{Kind, Machine, Statement};
 use ger_core::tools::ToolSource;
@@ -73,7 +73,8 @@ struct Guards {
     parts: Arc<[PartKind]>,
     /// The whole tool for the fixtures: the cutting edge, then each part above it.
     assembly: Vec<Guard>,
-    assembly_parts: Vec<PartKind>,
+    /// What each of `assembly` is: `None` for the cutting edge.
+    assembly_parts: Vec<Option<PartKind>>,
 }
 
 impl Guards {
@@ -91,28 +92,12 @@ impl Guards {
         }
         let cutter = ger_sim::Cutter::new(tool);
         let mut assembly = vec![Guard { cutter, base: 0.0, near: false }];
-        let mut assembly_parts = vec![PartKind::Shank];
+        let mut assembly_parts = vec![None];
         for part in Part::of(tool) {
             assembly.push(Guard { cutter: part.cutter, base: part.base, near: false });
-            assembly_parts.push(part.kind);
+            assembly_parts.push(Some(part.kind));
         }
         Guards { tool: tool.number, guards, parts: kinds.into(), assembly, assembly_parts }
-    }
-}
-
-/// A fixture where the simulation is: in machine coordinates.
-fn solid(fixture: &Fixture, config: &Config) -> Solid {
-    let shift = match fixture.coordinates {
-        Coordinates::Program => Point::from(config.offsets.entry(1)),
-        Coordinates::Machine => Point::ZERO,
-    };
-    match (fixture.min, fixture.max, fixture.centre) {
-        (Some(min), Some(max), _) => Solid::Box { min: Point::from(min) + shift, max: Point::from(max) + shift },
-        (_, _, centre) => {
-            let centre = Point::from(centre.unwrap_or_default()) + shift;
-            let (radius, height) = (fixture.diameter.unwrap_or_default() / 2.0, fixture.height.unwrap_or_default());
-            Solid::Cylinder { centre: [centre[0], centre[1]], radius, bottom: centre[2], top: centre[2] + height }
-        }
     }
 }
 
@@ -171,7 +156,7 @@ impl<'c> Checker<'c> {
             defaulted: false,
             moves: 0,
             guards: None,
-            fixtures: config.fixtures.iter().map(|f| (solid(f, config), f.name.as_str())).collect(),
+            fixtures: config.fixtures.iter().map(|f| (Solid::of(f, config), f.name.as_str())).collect(),
             pending: VecDeque::new(),
             findings: Vec::new(),
             summary: Summary::new(config),
@@ -261,10 +246,7 @@ impl<'c> Checker<'c> {
                 .iter()
                 .filter_map(|(solid, name)| {
                     let hit = self.sim.intrusion(solid, &m.segment, &guards.assembly)?;
-                    let part = match hit.part {
-                        0 => "cutting edge".to_string(),
-                        n => self::name(guards.assembly_parts[n]),
-                    };
+                    let part = guards.assembly_parts[hit.part].map_or("cutting edge".to_string(), self::name);
                     Some(format!("its {part} goes {} into fixture \"{name}\"", self.length(hit.depth)))
                 })
                 .collect();

@@ -2,6 +2,7 @@
 //! tool may touch, judged on the simulation's grid with the same swept
 //! volumes as a cut.
 
+use ger_core::config::{Config, Coordinates, Fixture};
 use rayon::prelude::*;
 
 use super::{each_cut, Guard, Point, Segment, Simulation};
@@ -23,6 +24,27 @@ pub enum Solid {
 }
 
 impl Solid {
+    /// A `[[fixtures]]` entry where the simulation is: in machine coordinates.
+    pub fn of(fixture: &Fixture, config: &Config) -> Solid {
+        let shift = match fixture.coordinates {
+            Coordinates::Program => Point::from(config.offsets.entry(1)),
+            Coordinates::Machine => Point::ZERO,
+        };
+        match (fixture.min, fixture.max, fixture.centre) {
+            (Some(min), Some(max), _) => Solid::Box { min: Point::from(min) + shift, max: Point::from(max) + shift },
+            (_, _, centre) => {
+                let centre = Point::from(centre.unwrap_or_default()) + shift;
+                let (radius, height) = (fixture.diameter.unwrap_or_default() / 2.0, fixture.height.unwrap_or_default());
+                Solid::Cylinder { centre: [centre[0], centre[1]], radius, bottom: centre[2], top: centre[2] + height }
+            }
+        }
+    }
+
+    /// Every fixture of `config`.
+    pub fn fixtures(config: &Config) -> Vec<Solid> {
+        config.fixtures.iter().map(|f| Solid::of(f, config)).collect()
+    }
+
     /// Its XY box, bottom and top.
     pub fn bounds(&self) -> (Point, Point) {
         match *self {
