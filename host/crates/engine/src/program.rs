@@ -7,11 +7,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use ger_check::{Checker, Rule, Verdict};
+use ger_compare::{Design, Judged};
 use ger_controller::Writer;
 use ger_core::config::{quoted, Bounds, Config, MAX_MEMORY_MIB};
 use ger_core::emit::Emitter;
 use ger_core::passes::{translate, Event, Options, LAST_STAGE};
-use ger_core::statement::Statement;
+use ger_core::statement::{Statement, Units};
 use ger_core::wizard::{NoWizards, Wizards};
 use ger_render::label;
 use ger_render::pieces::{self, Piece};
@@ -310,6 +311,44 @@ impl Program {
         (simulation.finish(), report)
     }
 
+    /// The part the program cuts out of `simulation`'s stock against
+    /// `design` (placed in machine coordinates, see [`place_design`]): the
+    /// comparison at `tolerance`, with the lines of the moves that cut
+    /// below the design where it is gouged deepest (a second pass, over
+    /// those cells alone), each cell's verdict, the part and the report.
+    pub fn compare(
+        &mut self,
+        simulation: Simulation,
+        design: &Design,
+        tolerance: f64,
+        progress: &mut dyn Progress,
+    ) -> (Judged, HeightField, Report) {
+        let (field, report) = self.simulate(simulation, progress);
+        let top = design.top_surface(&field);
+        let mut judged = ger_compare::compare(&field, &top, tolerance);
+        if !judged.gouged.is_empty() {
+            // Those cells cut again, in program order: a move that lowered one below the design gouged it.
+            let mut lines = std::collections::BTreeSet::new();
+            let cell = field.cell;
+            let mut cells: Vec<([f64; 2], f64, f64)> =
+                judged.gouged.iter().map(|&(at, below)| (at, below, field.top())).collect();
+            self.parts().moves("attributing", progress, |m, cutter| {
+                let Some(cutter) = cutter else { return };
+                for (at, below, height) in &mut cells {
+                    let low = ger_sim::lowest_over(&m.segment, &cutter, at[0], at[1], cell);
+                    if low < *height {
+                        *height = low;
+                        if low < *below {
+                            lines.insert(m.span.line);
+                        }
+                    }
+                }
+            });
+            judged.comparison.gouge.lines = lines.into_iter().collect();
+        }
+        (judged, field, report)
+    }
+
     /// The verifier's verdict, cutting `simulation`'s stock: the translation's
     /// diagnostics and the checks' (all but `allowed`), and the summary; and the part.
     pub fn check(
@@ -329,6 +368,19 @@ impl Program {
         });
         checker.finish_with_part()
     }
+}
+
+/// Puts `design` where the part is: its coordinates are in `units`
+/// (scaled to the machine's); `origin`, where program zero is in them
+/// (as `[stock] origin` says where it is in the block), or else the
+/// design's lowest corner on the stock's.
+pub fn place_design(design: &mut Design, config: &Config, units: Units, origin: Option<[f64; 3]>, stock: &Stock) {
+    let scale = units.factor_to(config.units);
+    let shift = match origin {
+        Some(origin) => -Point::from(origin) * scale,
+        None => stock.min - design.bounds().0 * scale,
+    };
+    design.place(scale, shift);
 }
 
 /// See [`Program::simulation`].

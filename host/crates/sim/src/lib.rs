@@ -599,6 +599,19 @@ impl Simulation {
     }
 }
 
+/// The lowest `cutter` goes over (x, y) moving along `segment` (infinity if
+/// it never passes over it), exactly as a simulation with cells of `cell` cuts it.
+pub fn lowest_over(segment: &Segment, cutter: &Cutter, x: f64, y: f64, cell: f64) -> f64 {
+    let (lo, hi) = segment.bounds();
+    let r = cutter.radius;
+    if x < lo[0] - r || x > hi[0] + r || y < lo[1] - r || y > hi[1] + r {
+        return f64::INFINITY;
+    }
+    let mut lowest = f64::INFINITY;
+    each_cut(segment, cutter, 0.0, cell / 20.0, |cut| lowest = lowest.min(cut.low(x, y)));
+    lowest
+}
+
 /// The cuts `cutter` makes along `segment` raised by `lift`: one, or for
 /// helices cut by ball and cone tools and arcs in XZ and YZ, short lines
 /// within `tolerance` of the arc, each cut exactly.
