@@ -200,7 +200,11 @@ pub(super) fn refused(refused: Refused, common: &CommonArgs, source: &Source) ->
 }
 
 /// Writes `out` to `output` and commits it: nothing is replaced unless all of it was written.
-fn save(mut output: OutputFile, path: &Path, out: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+pub(super) fn save(
+    mut output: OutputFile,
+    path: &Path,
+    out: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<()> {
     out(&mut output).and_then(|()| output.commit()).with_context(|| cannot_write(path))
 }
 
