@@ -106,6 +106,22 @@ fn the_json_report_has_its_documented_shape() {
         (Some("fixture"), Some(6))
     );
 
+    // A job: each program's report, in order, and the job's counts; the
+    // finishing program alone has a rapid into the stock, after its roughing none.
+    let (report, status) = json("tests/check/job.ngc", &["job_roughing.nc"]);
+    let programs = report["programs"].as_array().unwrap();
+    assert_eq!(status, Some(0));
+    assert_eq!(
+        programs.iter().map(|p| p["file"].as_str().unwrap()).collect::<Vec<_>>(),
+        ["job_roughing.nc", "job.ngc"]
+    );
+    for program in programs {
+        assert_valid(&validator, program);
+    }
+    assert_eq!((report["errors"].as_u64(), report["warnings"].as_u64()), (Some(0), Some(0)));
+    let (report, status) = json("tests/check/job_alone.ngc", &[]);
+    assert_eq!((status, report["diagnostics"][0]["rule"].as_str()), (Some(1), Some("rapid-into-stock")));
+
     // Each tool says what it is and where it came from: the config file, a comment, the default.
     let (report, _) = json("tests/check/default_tool_clean.ngc", &[]);
     assert_valid(&validator, &report);

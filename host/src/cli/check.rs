@@ -14,7 +14,9 @@ use super::{styled, CommonArgs};
 use ger_check::{Bounds, Finding, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
-use ger_engine::{Purpose, Report, Resolution};
+use std::path::PathBuf;
+
+use ger_engine::{Job, Purpose, Report, Resolution, Source};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {
@@ -34,6 +36,11 @@ pub(crate) enum Deny {
 pub(crate) struct CheckArgs {
     #[command(flatten)]
     common: CommonArgs,
+    /// More programs, cut after FILE on the same stock in this order (a job
+    /// posted one file an operation): each is judged against what the ones
+    /// before it left.
+    #[arg(value_name = "MORE")]
+    more: Vec<PathBuf>,
     /// How to report.
     #[arg(long, value_enum, default_value = "text")]
     format: Output,
@@ -65,6 +72,9 @@ fn rule(text: &str) -> Result<Rule> {
 }
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
+    if !args.more.is_empty() {
+        return job(args);
+    }
     let mut program = args.common.program(Purpose::Cut)?;
     let source = program.source().clone();
     let mut bar = Bar::new(args.quiet || args.format == Output::Json);
@@ -103,6 +113,76 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
         }
     }
     Ok(i32::from(errors > 0))
+}
+
+/// `ger check A B C`: the programs in turn on one stock, each reported as
+/// alone (its diagnostics, its summary), then a line for the job.
+fn job(args: &CheckArgs) -> Result<i32> {
+    let first = args.common.program(Purpose::Cut)?;
+    let mut rest = Vec::new();
+    for path in &args.more {
+        rest.push(args.common.program_of(Source::open_path(path)?, Purpose::Cut)?);
+    }
+    let mut job = Job::new(first, rest);
+    let mut bar = Bar::new(args.quiet || args.format == Output::Json);
+    let (stock, _) = job.stock(&mut bar);
+    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let sim = match job.simulation(stock, asked) {
+        Ok(sim) => sim,
+        Err(err) => return refused(err, &args.common, job.programs()[0].source()),
+    };
+    let (mut verdicts, _) = job.check(sim, &args.allow, &mut bar);
+    let (mut errors, mut warnings) = (0, 0);
+    let mut reports = Vec::new();
+    for (program, verdict) in job.programs().iter().zip(&mut verdicts) {
+        if args.deny == Some(Deny::Warnings) {
+            for finding in &mut verdict.findings {
+                finding.diagnostic.severity = Severity::Error;
+            }
+        }
+        let e = verdict.findings.iter().filter(|f| f.diagnostic.is_error()).count();
+        (errors, warnings) = (errors + e, warnings + verdict.findings.len() - e);
+        let source = program.source();
+        match args.format {
+            Output::Text => {
+                let mut report = Report::default().failing_as("the check failed");
+                for finding in &verdict.findings {
+                    report.add(finding.diagnostic.clone());
+                }
+                if !verdict.findings.is_empty() {
+                    eprint!("{}", report.render(&source.name(), source.open(), styled()));
+                }
+                print!("{}", summary_text(&source.name(), verdict, program.config()));
+            }
+            Output::Json => reports.push(JsonReport::new(&source.name(), verdict)),
+        }
+    }
+    let names: Vec<String> = job.programs().iter().map(|p| p.source().name()).collect();
+    match args.format {
+        Output::Text => {
+            let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+            let verdict = match (errors, warnings) {
+                (0, 0) => "no problems found".to_string(),
+                (e, w) => format!("{}, {}", plural(e, "error"), plural(w, "warning")),
+            };
+            println!("job {}: {verdict}", names.join(", then "));
+        }
+        Output::Json => {
+            let json = serde_json::to_string_pretty(&JsonJob { version: 1, errors, warnings, programs: reports })
+                .context("cannot write the report")?;
+            println!("{json}");
+        }
+    }
+    Ok(i32::from(errors > 0))
+}
+
+/// `ger check A B C --format json`: each program's report, in order, and the job's counts.
+#[derive(Serialize)]
+struct JsonJob<'a> {
+    version: u32,
+    errors: usize,
+    warnings: usize,
+    programs: Vec<JsonReport<'a>>,
 }
 
 /// The summary for people: a heading line, then one line a fact.

@@ -370,6 +370,66 @@ impl Program {
     }
 }
 
+/// Programs cut one after another on one stock: a CAM job posted one file
+/// an operation (roughing, finishing, drilling). Each is judged against
+/// what the ones before it left; each keeps its own machine (its tools).
+pub struct Job {
+    /// Never empty.
+    programs: Vec<Program>,
+}
+
+impl Job {
+    /// `first`, then `rest`, in that order.
+    pub fn new(first: Program, rest: Vec<Program>) -> Job {
+        let mut programs = vec![first];
+        programs.extend(rest);
+        Job { programs }
+    }
+
+    pub fn programs(&self) -> &[Program] {
+        &self.programs
+    }
+
+    /// The first program's `[stock]`, or else the stock round what all of
+    /// them cut (with the first's margin), with each program's report of
+    /// the pass that found it.
+    pub fn stock(&mut self, progress: &mut dyn Progress) -> (Stock, Vec<Report>) {
+        if let Some(stock) = Stock::from_config(&self.programs[0].config) {
+            return (stock, Vec::new());
+        }
+        let mut cut = CutBounds::default();
+        let mut reports = Vec::new();
+        for program in &mut self.programs {
+            let extent = program.extent(progress);
+            cut.merge(&extent.cut);
+            reports.push(extent.report);
+        }
+        (cut.stock_for(&self.programs[0].config), reports)
+    }
+
+    /// The simulation of `stock` the first program's machine asks for (see [`Program::simulation`]).
+    pub fn simulation(&self, stock: Stock, asked: Resolution) -> Result<Simulation, Refused> {
+        self.programs[0].simulation(stock, asked)
+    }
+
+    /// Each program's verdict in turn, cutting `simulation`'s stock on from
+    /// where the one before left it; and the part at the end.
+    pub fn check(
+        &mut self,
+        mut simulation: Simulation,
+        allowed: &[Rule],
+        progress: &mut dyn Progress,
+    ) -> (Vec<Verdict>, HeightField) {
+        let mut verdicts = Vec::new();
+        for program in &mut self.programs {
+            let (verdict, part) = program.check(simulation, allowed, progress);
+            verdicts.push(verdict);
+            simulation = Simulation::resume(part);
+        }
+        (verdicts, simulation.finish())
+    }
+}
+
 /// Puts `design` where the part is: its coordinates are in `units`
 /// (scaled to the machine's); `origin`, where program zero is in them
 /// (as `[stock] origin` says where it is in the block), or else the

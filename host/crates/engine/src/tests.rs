@@ -321,3 +321,39 @@ fn the_part_against_its_design_exact_gouged_and_with_a_rib_left() {
     assert!((c.left.volume - 1000.0).abs() / 1000.0 < 0.02, "{:?}", c.left);
     assert!((c.left.worst - 5.0).abs() < 1e-5 && c.gouge.area == 0.0, "{c:?}");
 }
+
+#[test]
+fn a_finishing_program_after_its_roughing_is_judged_against_what_roughing_left() {
+    let config = Config::from_toml(
+        "units = \"mm\"\n[stock]\nsize = [100, 50, 20]\norigin = [0, 0, 20]\n\
+         [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\nflute_length = 10\n",
+    )
+    .unwrap();
+    // Roughing: a slot along Y20 from X20 to X40, 4.5 mm deep in two passes.
+    let rough = "G21\nM03 S10000\nG00 X20 Y20 Z1\nG01 Z-2 F200\nX40\nZ-4.5\nX20\nG00 Z5\nM30\n";
+    // Finishing: a rapid down to Z-4 in the slot (line 4), then the last half millimetre.
+    let finish = "G21\nM03 S10000\nG00 X30 Y20 Z1\nG00 Z-4\nG01 Z-5 F100\nX20\nX40\nG00 Z5\nM30\n";
+    let program = |name, text| Program::new(Source::text(name, ".", text), config.clone());
+    let cell = Resolution { cell: Some(0.1), ..Resolution::default() };
+    let messages = |verdict: &ger_check::Verdict| -> Vec<String> {
+        verdict.findings.iter().map(|f| format!("{}: {}", f.diagnostic.span.line, f.diagnostic.message)).collect()
+    };
+
+    // Alone, on a fresh block, its rapid goes 4 mm into the stock.
+    let mut alone = program("finish.nc", finish);
+    let (stock, _) = alone.stock(&mut Silent);
+    let (verdict, _) = alone.check(alone.simulation(stock, cell).unwrap(), &[], &mut Silent);
+    assert_eq!(messages(&verdict), ["4: rapid move (G00) cuts 4.000 mm into the stock"]);
+
+    // After the roughing, in the air it left.
+    let mut job = crate::Job::new(program("rough.nc", rough), vec![program("finish.nc", finish)]);
+    let (stock, _) = job.stock(&mut Silent);
+    let (verdicts, part) = job.check(job.simulation(stock, cell).unwrap(), &[], &mut Silent);
+    assert_eq!(verdicts.len(), 2);
+    assert!(verdicts.iter().all(|v| v.findings.is_empty()), "{:?}", verdicts.iter().map(messages).collect::<Vec<_>>());
+    // The part is both programs' cut: 5 mm deep where the finishing pass went.
+    assert!((part.lowest() + 5.0).abs() < 1e-6, "{}", part.lowest());
+    // Each summary's cut is the part as that program leaves it: 4.5 mm deep, then 5.
+    assert_eq!(verdicts[0].summary.cut_box.unwrap().min[2], -4.5);
+    assert_eq!(verdicts[1].summary.cut_box.unwrap().min[2], -5.0);
+}

@@ -124,6 +124,15 @@ impl CutBounds {
         grow(&mut self.cut, lo, hi);
     }
 
+    /// What `other` adds: the bounds of both (of the programs of a job).
+    pub fn merge(&mut self, other: &CutBounds) {
+        for (mine, theirs) in [(&mut self.cut, other.cut), (&mut self.all, other.all)] {
+            if let Some((lo, hi)) = theirs {
+                grow(mine, lo, hi);
+            }
+        }
+    }
+
     /// The stock: the box of the cut plus `margin` on each side, top at Z=0.
     /// A program that cuts nothing gets a block `margin` deep under its moves.
     pub fn stock(&self, margin: f64) -> Stock {
@@ -334,6 +343,11 @@ impl Simulation {
             return Err(Refusal::TooBig(TooBig { needed, limit, finest: stock.finest_cell(limit) }));
         }
         let field = HeightField::new(stock, cell).map_err(|_| Refusal::OutOfMemory { needed })?;
+        Ok(Simulation::resume(field))
+    }
+
+    /// Cutting `field` on, as an earlier simulation left it (the next program of a job).
+    pub fn resume(field: HeightField) -> Simulation {
         let frame = Frame {
             x0: field.stock.min[0],
             y0: field.stock.min[1],
@@ -344,7 +358,7 @@ impl Simulation {
             floor: field.stock.min[2] as f32,
             clamp: field.stock.min[2] as f32,
         };
-        Ok(Simulation {
+        Simulation {
             tolerance: field.cell / 20.0,
             field,
             frame,
@@ -356,7 +370,7 @@ impl Simulation {
             tags: None,
             contacts: Vec::new(),
             settled_below: 0,
-        })
+        }
     }
 
     /// Reports, for every move cut with [`Simulation::cut_tagged`], how deep it
