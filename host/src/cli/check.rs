@@ -16,7 +16,8 @@ use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
 use std::path::PathBuf;
 
-use ger_engine::{Job, Purpose, Report, Resolution, Source};
+use ger_engine::compare::Design;
+use ger_engine::{carve, stock_of, Job, Purpose, Report, Resolution, Source};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {
@@ -41,6 +42,10 @@ pub(crate) struct CheckArgs {
     /// before it left.
     #[arg(value_name = "MORE")]
     more: Vec<PathBuf>,
+    /// Start from this mesh (a closed STL, in machine coordinates and units:
+    /// a casting, or the part an earlier job left) instead of a block.
+    #[arg(long, value_name = "STL")]
+    stock_from: Option<PathBuf>,
     /// How to report.
     #[arg(long, value_enum, default_value = "text")]
     format: Output,
@@ -81,12 +86,19 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
 
     // Without a size, the stock is where the program cuts: a pass to find it
     // (its diagnostics come again from the check's own pass).
-    let (stock, _) = program.stock(&mut bar);
+    let mesh = start_mesh(args)?;
+    let stock = match &mesh {
+        Some(mesh) => stock_of(mesh),
+        None => program.stock(&mut bar).0,
+    };
     let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
-    let sim = match program.simulation(stock, asked) {
+    let mut sim = match program.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),
     };
+    if let Some(mesh) = &mesh {
+        carve(&mut sim, mesh);
+    }
     let (mut verdict, _) = program.check(sim, &args.allow, &mut bar);
     let config = program.config();
     if args.deny == Some(Deny::Warnings) {
@@ -125,12 +137,19 @@ fn job(args: &CheckArgs) -> Result<i32> {
     }
     let mut job = Job::new(first, rest);
     let mut bar = Bar::new(args.quiet || args.format == Output::Json);
-    let (stock, _) = job.stock(&mut bar);
+    let mesh = start_mesh(args)?;
+    let stock = match &mesh {
+        Some(mesh) => stock_of(mesh),
+        None => job.stock(&mut bar).0,
+    };
     let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
-    let sim = match job.simulation(stock, asked) {
+    let mut sim = match job.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, job.programs()[0].source()),
     };
+    if let Some(mesh) = &mesh {
+        carve(&mut sim, mesh);
+    }
     let (mut verdicts, _) = job.check(sim, &args.allow, &mut bar);
     let (mut errors, mut warnings) = (0, 0);
     let mut reports = Vec::new();
@@ -174,6 +193,15 @@ fn job(args: &CheckArgs) -> Result<i32> {
         }
     }
     Ok(i32::from(errors > 0))
+}
+
+/// `--stock-from`'s mesh, if given.
+fn start_mesh(args: &CheckArgs) -> Result<Option<Design>> {
+    let Some(path) = &args.stock_from else { return Ok(None) };
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).with_context(|| format!("cannot read {name}"))?;
+    let mesh = Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad stock {name}"))?;
+    Ok(Some(mesh))
 }
 
 /// `ger check A B C --format json`: each program's report, in order, and the job's counts.

@@ -38,7 +38,7 @@ mod report;
 mod source;
 
 pub use machine::{ConfigError, Purpose, Settings};
-pub use program::{place_design, Culprit, Extent, Job, Program, Refused, Resolution};
+pub use program::{carve, place_design, stock_of, Culprit, Extent, Job, Program, Refused, Resolution};
 pub use progress::{Progress, Silent};
 pub use report::Report;
 pub use source::{ReadError, Source};

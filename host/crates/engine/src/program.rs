@@ -430,6 +430,19 @@ impl Job {
     }
 }
 
+/// A stock that starts as `mesh` (a casting, an earlier job's part), in
+/// machine coordinates as it is: its box.
+pub fn stock_of(mesh: &Design) -> Stock {
+    let (min, max) = mesh.bounds();
+    Stock { min, max }
+}
+
+/// Shapes `simulation`'s stock as `mesh`'s top surface (see [`stock_of`]).
+pub fn carve(simulation: &mut Simulation, mesh: &Design) {
+    let top = mesh.top_surface(simulation.field());
+    simulation.carve(&top);
+}
+
 /// Puts `design` where the part is: its coordinates are in `units`
 /// (scaled to the machine's); `origin`, where program zero is in them
 /// (as `[stock] origin` says where it is in the block), or else the

@@ -388,6 +388,11 @@ impl Simulation {
         &self.field
     }
 
+    /// Starts from material shaped as `heights` (see [`HeightField::carve`]).
+    pub fn carve(&mut self, heights: &[Option<f64>]) {
+        self.field.carve(heights);
+    }
+
     /// Moves simulated so far.
     pub fn moves(&self) -> u64 {
         self.moves
