@@ -58,6 +58,32 @@ fn a_gouge_is_reported_with_its_lines_as_text_json_and_a_heat_map() {
 }
 
 #[test]
+fn check_with_a_design_adds_the_comparison_and_fails_on_a_gouge() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    std::fs::write(path.join("ger.toml"), CONFIG).unwrap();
+    std::fs::write(path.join("slot.ngc"), SLOT).unwrap();
+    std::fs::write(path.join("deep.ngc"), DEEP).unwrap();
+    assert!(ger(path, &["render", "slot.ngc", "-o", "slot.stl", "--resolution", "0.5", "-q"]).status.success());
+    let out = ger(path, &["check", "deep.ngc", "--design", "slot.stl", "--resolution", "0.5", "-q"]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("  gouged    0.300 mm deepest") && text.contains("cut by lines 7, 8"), "{text}");
+    let args = ["check", "deep.ngc", "--design", "slot.stl", "--resolution", "0.5", "-q", "--format", "json"];
+    let report: serde_json::Value = serde_json::from_slice(&ger(path, &args).stdout).unwrap();
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/check.schema.json")).unwrap();
+    let schema = jsonschema::validator_for(&serde_json::from_str(&text).unwrap()).unwrap();
+    let errors: Vec<String> = schema.iter_errors(&report).map(|e| format!("{e} at {}", e.instance_path())).collect();
+    assert!(errors.is_empty(), "{errors:?}\n{report:#}");
+    assert_eq!(report["design"]["gouge"]["lines"], serde_json::json!([7, 8]));
+    // The slot itself is within the tolerance: exit 0.
+    assert_eq!(
+        ger(path, &["check", "slot.ngc", "--design", "slot.stl", "--resolution", "0.5", "-q"]).status.code(),
+        Some(0)
+    );
+}
+
+#[test]
 fn a_design_that_is_not_a_solid_is_an_error_naming_it() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path();

@@ -9,14 +9,14 @@ use serde::Serialize;
 
 use anyhow::{Context, Result};
 
-use super::render::{memory_limit, refused, resolution, Bar};
+use super::render::{memory_limit, refused, resolution, usage_error, Bar};
 use super::{styled, CommonArgs};
 use ger_check::{Bounds, Finding, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
 use std::path::PathBuf;
 
-use ger_engine::compare::Design;
+use ger_engine::compare::{Comparison, Design};
 use ger_engine::{carve, stock_of, Job, Purpose, Report, Resolution, Source};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -46,6 +46,11 @@ pub(crate) struct CheckArgs {
     /// a casting, or the part an earlier job left) instead of a block.
     #[arg(long, value_name = "STL")]
     stock_from: Option<PathBuf>,
+    /// Also set the part beside its design (a closed STL), as `ger compare` does.
+    #[arg(long, value_name = "STL")]
+    design: Option<PathBuf>,
+    #[command(flatten)]
+    placing: super::compare::DesignArgs,
     /// How to report.
     #[arg(long, value_enum, default_value = "text")]
     format: Output,
@@ -78,6 +83,9 @@ fn rule(text: &str) -> Result<Rule> {
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
     if !args.more.is_empty() {
+        if args.design.is_some() {
+            return usage_error("--design compares one program's part: give it one program");
+        }
         return job(args);
     }
     let mut program = args.common.program(Purpose::Cut)?;
@@ -99,7 +107,15 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
     if let Some(mesh) = &mesh {
         carve(&mut sim, mesh);
     }
-    let (mut verdict, _) = program.check(sim, &args.allow, &mut bar);
+    let design = match &args.design {
+        Some(path) => match args.placing.load(path, program.config(), &stock)? {
+            Some(design) => Some(design),
+            None => return Ok(2),
+        },
+        None => None,
+    };
+    let (mut verdict, part) = program.check(sim, &args.allow, &mut bar);
+    let comparison = design.map(|(design, tolerance)| program.judge(&part, &design, tolerance, &mut bar).comparison);
     let config = program.config();
     if args.deny == Some(Deny::Warnings) {
         for finding in &mut verdict.findings {
@@ -117,14 +133,19 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
                 eprint!("{}", report.render(&source.name(), source.open(), styled()));
             }
             print!("{}", summary_text(&source.name(), &verdict, config));
+            if let Some(c) = &comparison {
+                print!("{}", super::compare::deviations(c, config.units.abbreviation(), config.units.decimals()));
+            }
         }
         Output::Json => {
-            let json = serde_json::to_string_pretty(&JsonReport::new(&source.name(), &verdict))
-                .context("cannot write the report")?;
+            let mut report = JsonReport::new(&source.name(), &verdict);
+            report.design = comparison.as_ref();
+            let json = serde_json::to_string_pretty(&report).context("cannot write the report")?;
             println!("{json}");
         }
     }
-    Ok(i32::from(errors > 0))
+    let gouged = comparison.is_some_and(|c| c.gouge.area > 0.0);
+    Ok(i32::from(errors > 0 || gouged))
 }
 
 /// `ger check A B C`: the programs in turn on one stock, each reported as
@@ -330,6 +351,9 @@ struct JsonReport<'a> {
     warnings: usize,
     diagnostics: Vec<JsonDiagnostic>,
     summary: &'a Summary,
+    /// `--design`'s comparison (`ger compare`'s figures).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    design: Option<&'a Comparison>,
 }
 
 #[derive(Serialize)]
@@ -366,6 +390,7 @@ impl<'a> JsonReport<'a> {
             warnings: diagnostics.len() - errors,
             diagnostics,
             summary: &verdict.summary,
+            design: None,
         }
     }
 }

@@ -1,9 +1,9 @@
 //! `ger compare`: the part the program cuts against its design (an STL), as
 //! text for people or JSON (the shape is `host/docs/compare.schema.json`),
-//! and a heat map.
+//! and a heat map; and the design's options `ger check --design` shares.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
@@ -13,9 +13,10 @@ use super::check::Output;
 use super::error::cannot_write;
 use super::render::{memory_limit, refused, resolution, save, usage_error, Bar};
 use super::{CommonArgs, UnitsArg};
-use ger_core::config::Bounds;
+use ger_core::config::{Bounds, Config};
 use ger_core::statement::Units;
 use ger_engine::compare::{heat_map, Comparison, Design, Deviation};
+use ger_engine::sim::Stock;
 use ger_engine::{place_design, Purpose, Resolution};
 use ger_output::OutputFile;
 
@@ -25,16 +26,8 @@ pub(crate) struct CompareArgs {
     common: CommonArgs,
     /// The design: a closed mesh, binary or ASCII STL.
     design: PathBuf,
-    /// How far the part may be off the design, in machine units [default: 0.05 mm or 0.002 in].
-    #[arg(long, value_name = "LENGTH")]
-    tolerance: Option<f64>,
-    /// Where program zero is in the design's coordinates [default: the
-    /// design's lowest corner on the stock's].
-    #[arg(long, value_name = "X,Y,Z", value_parser = triple)]
-    design_origin: Option<[f64; 3]>,
-    /// The design's unit [default: the machine's].
-    #[arg(long, value_enum, value_name = "UNIT")]
-    design_units: Option<UnitsArg>,
+    #[command(flatten)]
+    placing: DesignArgs,
     /// How to report.
     #[arg(long, value_enum, default_value = "text")]
     format: Output,
@@ -53,6 +46,47 @@ pub(crate) struct CompareArgs {
     quiet: bool,
 }
 
+/// How a design is placed and judged (`ger compare`, `ger check --design`).
+#[derive(Args)]
+pub(crate) struct DesignArgs {
+    /// How far the part may be off the design, in machine units [default: 0.05 mm or 0.002 in].
+    #[arg(long, value_name = "LENGTH")]
+    tolerance: Option<f64>,
+    /// Where program zero is in the design's coordinates [default: the
+    /// design's lowest corner on the stock's].
+    #[arg(long, value_name = "X,Y,Z", value_parser = triple)]
+    design_origin: Option<[f64; 3]>,
+    /// The design's unit [default: the machine's].
+    #[arg(long, value_enum, value_name = "UNIT")]
+    design_units: Option<UnitsArg>,
+}
+
+impl DesignArgs {
+    /// The design at `path`, placed over `stock`, and the tolerance; `None`
+    /// (the usage error said) when the tolerance is out of bounds.
+    pub(crate) fn load(&self, path: &Path, config: &Config, stock: &Stock) -> Result<Option<(Design, f64)>> {
+        let bounds = Bounds::of(config.units);
+        if self.tolerance.is_some_and(|t| !(0.0..=bounds.tool).contains(&t)) {
+            usage_error(&format!("--tolerance must be from 0 to {} {}", bounds.tool, config.units.abbreviation()))?;
+            return Ok(None);
+        }
+        let name = path.display().to_string();
+        let file = std::fs::File::open(path).with_context(|| format!("cannot read {name}"))?;
+        let mut design =
+            Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad design {name}"))?;
+        let units = self.design_units.map_or(config.units, |u| match u {
+            UnitsArg::Inch => Units::Inch,
+            UnitsArg::Mm => Units::Mm,
+        });
+        place_design(&mut design, config, units, self.design_origin, stock);
+        let tolerance = self.tolerance.unwrap_or(match config.units {
+            Units::Mm => 0.05,
+            Units::Inch => 0.002,
+        });
+        Ok(Some((design, tolerance)))
+    }
+}
+
 fn triple(text: &str) -> Result<[f64; 3]> {
     let numbers: Vec<f64> = text.split(',').map(|n| n.trim().parse::<f64>()).collect::<Result<_, _>>()?;
     match numbers[..] {
@@ -64,32 +98,18 @@ fn triple(text: &str) -> Result<[f64; 3]> {
 pub(crate) fn compare(args: &CompareArgs) -> Result<i32> {
     let mut program = args.common.program(Purpose::Cut)?;
     let config = program.config().clone();
-    let bounds = Bounds::of(config.units);
-    if args.tolerance.is_some_and(|t| !(0.0..=bounds.tool).contains(&t)) {
-        return usage_error(&format!("--tolerance must be from 0 to {} {}", bounds.tool, config.units.abbreviation()));
-    }
     let name = args.design.display().to_string();
-    let file = std::fs::File::open(&args.design).with_context(|| format!("cannot read {name}"))?;
-    let mut design = Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad design {name}"))?;
     let heat = args.heat_map.as_ref().map(|path| OutputFile::create(path).with_context(|| cannot_write(path)));
     let heat = heat.transpose()?;
     let source = program.source().clone();
     let mut bar = Bar::new(args.quiet || args.format == Output::Json);
     let (stock, _) = program.stock(&mut bar);
-    let units = args.design_units.map_or(config.units, |u| match u {
-        UnitsArg::Inch => Units::Inch,
-        UnitsArg::Mm => Units::Mm,
-    });
-    place_design(&mut design, &config, units, args.design_origin, &stock);
+    let Some((design, tolerance)) = args.placing.load(&args.design, &config, &stock)? else { return Ok(2) };
     let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
     let sim = match program.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),
     };
-    let tolerance = args.tolerance.unwrap_or(match config.units {
-        Units::Mm => 0.05,
-        Units::Inch => 0.002,
-    });
     let (judged, field, report) = program.compare(sim, &design, tolerance, &mut bar);
     super::show(&report, &source);
     if report.errors() > 0 {
@@ -124,6 +144,11 @@ fn text(file: &str, design: &str, c: &Comparison, unit: &str, d: usize) -> Strin
         "  judged    {:.d$} {unit}² under the design, cells of {:.d$} {unit}, tolerance {:.d$} {unit}",
         c.judged_area, c.cell, c.tolerance
     );
+    out + &deviations(c, unit, d)
+}
+
+/// The comparison's lines of text: the gouges and the material left.
+pub(crate) fn deviations(c: &Comparison, unit: &str, d: usize) -> String {
     let deviation = |what: &str, dev: &Deviation| match dev.at {
         None => "none".to_string(),
         Some([x, y]) => {
@@ -138,9 +163,7 @@ fn text(file: &str, design: &str, c: &Comparison, unit: &str, d: usize) -> Strin
             line
         }
     };
-    let _ = writeln!(out, "  gouged    {}", deviation("deepest", &c.gouge));
-    let _ = writeln!(out, "  left      {}", deviation("highest", &c.left));
-    out
+    format!("  gouged    {}\n  left      {}\n", deviation("deepest", &c.gouge), deviation("highest", &c.left))
 }
 
 /// `ger compare --format json`: field names are part of ger's interface.

@@ -324,8 +324,20 @@ impl Program {
         progress: &mut dyn Progress,
     ) -> (Judged, HeightField, Report) {
         let (field, report) = self.simulate(simulation, progress);
-        let top = design.top_surface(&field);
-        let mut judged = ger_compare::compare(&field, &top, tolerance);
+        let judged = self.judge(&field, design, tolerance, progress);
+        (judged, field, report)
+    }
+
+    /// `part`, which this program cut, against `design` (see [`Program::compare`]).
+    pub fn judge(
+        &mut self,
+        field: &HeightField,
+        design: &Design,
+        tolerance: f64,
+        progress: &mut dyn Progress,
+    ) -> Judged {
+        let top = design.top_surface(field);
+        let mut judged = ger_compare::compare(field, &top, tolerance);
         if !judged.gouged.is_empty() {
             // Those cells cut again, in program order: a move that lowered one below the design gouged it.
             let mut lines = std::collections::BTreeSet::new();
@@ -346,7 +358,7 @@ impl Program {
             });
             judged.comparison.gouge.lines = lines.into_iter().collect();
         }
-        (judged, field, report)
+        judged
     }
 
     /// The verifier's verdict, cutting `simulation`'s stock: the translation's
