@@ -312,3 +312,34 @@ fn a_guard_meets_what_the_moves_before_left_and_cuts_nothing() {
     let (i, j) = (((0.5 + 0.15) / cell) as usize, (0.5 / cell) as usize);
     assert!((field.get(i, j) + 0.5).abs() < 1e-6);
 }
+
+#[test]
+fn a_carved_stock_is_cut_from_where_it_was_carved_to() {
+    // A 1 x 1 block, its left half carved down to -0.5 (a casting's step), nothing at all over x > 0.9.
+    let stock = Stock { min: Point::new(0.0, 0.0, -1.0), max: Point::new(1.0, 1.0, 0.0) };
+    let mut sim = Simulation::new(stock, 0.01, 1 << 30).unwrap().inspecting();
+    let (nx, ny) = (sim.field().nx, sim.field().ny);
+    let heights: Vec<Option<f64>> = (0..nx * ny)
+        .map(|k| {
+            let x = sim.field().centre(k % nx, k / nx)[0];
+            if x > 0.9 {
+                None
+            } else {
+                Some(if x < 0.5 { -0.5 } else { 0.0 })
+            }
+        })
+        .collect();
+    sim.carve(&heights);
+    let cutter = Cutter { radius: 0.1, shape: Shape::Flat };
+    let plunge = |x: f64, z: f64| Segment::Line { from: Point::new(x, 0.5, 0.5), to: Point::new(x, 0.5, z) };
+    // Down to -0.3 over the step: nothing there; over the top, 0.3 of material.
+    sim.cut_tagged(&plunge(0.25, -0.3), &cutter, 0);
+    sim.cut_tagged(&plunge(0.7, -0.3), &cutter, 1);
+    sim.settle();
+    let contacts: Vec<(u32, f32)> = sim.take_contacts().iter().map(|c| (c.tag, c.depth)).collect();
+    assert_eq!(contacts.len(), 1);
+    assert_eq!(contacts[0].0, 1);
+    assert!((contacts[0].1 - 0.3).abs() < 1e-6, "{contacts:?}");
+    let field = sim.finish();
+    assert_eq!((field.get(95, 50), field.get(25, 50)), (-1.0, -0.5));
+}
