@@ -170,6 +170,31 @@ fn the_stl_is_watertight_and_holds_the_stock_less_the_cut() {
     assert!((volume / want - 1.0).abs() < 0.01, "{volume} vs {want}");
 }
 
+fn stl_volume(path: &Path) -> f64 {
+    read_stl(path)
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|p| p.map(f64::from));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn a_job_renders_the_part_all_its_programs_cut() {
+    // The two pockets of POCKETS as two programs, one after the other, on one block.
+    let first = "G20\nG00 Z0.1\nX0.5 Y0.5\nG01 Z-0.1 F10\nG02 X0.5 Y0.5 I0.1 J0\nG00 Z0.1\nM30\n";
+    let second = "G20\nG00 Z0.1\nX1.5 Y0.5\nG01 Z-0.3 F10\nG02 X1.5 Y0.5 I0.1 J0\nG00 Z0.1\nM30\n";
+    let dir = setup(first, BLOCK);
+    std::fs::write(dir.path().join("second.ngc"), second).unwrap();
+    ok(&ger(dir.path(), &["render", "part.ngc", "second.ngc", "-o", "job.stl", "--resolution", "0.01"]));
+    let volume = stl_volume(&dir.path().join("job.stl"));
+    let want = 2.0 * 1.0 * 0.5 - std::f64::consts::PI * 0.225f64.powi(2) * (0.1 + 0.3);
+    assert!((volume / want - 1.0).abs() < 0.01, "{volume} vs {want}");
+}
+
 #[test]
 fn a_program_that_cuts_nothing_still_renders_the_stock() {
     let dir = setup("G20\nG00 X1 Y1 Z1\nM30\n", "");

@@ -402,6 +402,10 @@ impl Job {
         &self.programs
     }
 
+    pub fn programs_mut(&mut self) -> &mut [Program] {
+        &mut self.programs
+    }
+
     /// The first program's `[stock]`, or else the stock round what all of
     /// them cut (with the first's margin), with each program's report of
     /// the pass that found it.
@@ -422,6 +426,26 @@ impl Job {
     /// The simulation of `stock` the first program's machine asks for (see [`Program::simulation`]).
     pub fn simulation(&self, stock: Stock, asked: Resolution) -> Result<Simulation, Refused> {
         self.programs[0].simulation(stock, asked)
+    }
+
+    /// The part all the programs cut in turn out of `simulation`'s stock,
+    /// and each one's report.
+    pub fn simulate(&mut self, simulation: Simulation, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
+        let (part, first) = self.programs[0].simulate(simulation, progress);
+        let (part, mut reports) = self.simulate_on(part, progress);
+        reports.insert(0, first);
+        (part, reports)
+    }
+
+    /// The programs after the first cut on `part`, as the first left it, and their reports.
+    pub fn simulate_on(&mut self, mut part: HeightField, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
+        let mut reports = Vec::new();
+        for program in &mut self.programs[1..] {
+            let report;
+            (part, report) = program.simulate(Simulation::resume(part), progress);
+            reports.push(report);
+        }
+        (part, reports)
     }
 
     /// Each program's verdict in turn, cutting `simulation`'s stock on from
