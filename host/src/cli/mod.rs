@@ -2,6 +2,7 @@
 //! streams and terminals; everything else takes readers and returns values.
 
 mod check;
+mod compare;
 mod error;
 mod render;
 mod view;
@@ -45,6 +46,9 @@ enum Command {
     Parse(InputArg),
     /// Simulate the cut and write a picture (2D, 3D), a mesh (STL) or the toolpath.
     Render(Box<render::RenderArgs>),
+    /// Simulate the cut and set the part beside its design (an STL): gouges
+    /// and material left beyond a tolerance, and the lines that gouged.
+    Compare(Box<compare::CompareArgs>),
     /// Show the step/direction pulses a stepper controller would get.
     Pulses(render::PulsesArgs),
     /// Make, build and list wizards.
@@ -189,6 +193,7 @@ pub fn main() -> i32 {
         Command::Tokens(args) => tokens(&args.file),
         Command::Parse(args) => parse_only(&args.file),
         Command::Render(args) => render::render(&args),
+        Command::Compare(args) => compare::compare(&args),
         Command::Pulses(args) => render::pulses(&args),
         Command::Wizard(command) => wizard::main(command),
         Command::View(args) => view::main(*args),
