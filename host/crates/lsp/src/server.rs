@@ -458,7 +458,7 @@ impl Shared {
             label: wizard.name.clone(),
             kind: Some(CompletionItemKind::FUNCTION),
             detail: Some(wizard.usage.clone()),
-            documentation: Some(markdown(wizard_hover(&wizard.name, &[wizard.clone()]))),
+            documentation: Some(markdown(wizard_text(wizard))),
             ..CompletionItem::default()
         }));
         CompletionResponse::Array(items)
@@ -474,9 +474,14 @@ fn markdown(value: String) -> Documentation {
 }
 
 fn wizard_hover(name: &str, catalog: &[WizardInfo]) -> String {
-    let Some(wizard) = catalog.iter().find(|w| wizard_key(&w.name) == wizard_key(name)) else {
-        return format!("**{name}**: a wizard call; no wizard of that name is described in the wizards folder");
-    };
+    match catalog.iter().find(|w| wizard_key(&w.name) == wizard_key(name)) {
+        Some(wizard) => wizard_text(wizard),
+        None => format!("**{name}**: a wizard call; no wizard of that name is described in the wizards folder"),
+    }
+}
+
+/// A wizard's usage, summary and parameters.
+fn wizard_text(wizard: &WizardInfo) -> String {
     let mut text = format!("**{}** (wizard)\n\n`{}`\n\n{}", wizard.name, wizard.usage, wizard.summary);
     for param in &wizard.params {
         let optional = if param.optional { " (optional)" } else { "" };
