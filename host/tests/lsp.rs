@@ -217,6 +217,13 @@ fn an_editor_session_over_stdio() {
     assert_eq!(definition["uri"], uri);
     assert_eq!(definition["range"], range((8, 0), (8, 4)));
 
+    // O100's references: its definition and the one call, M98 P100 (from M98 to P100).
+    let mut references = at(&uri, 8, 2);
+    references["context"] = json!({"includeDeclaration": true});
+    let references = server.request("textDocument/references", references);
+    let ranges: Vec<&Value> = references.as_array().unwrap().iter().map(|r| &r["range"]).collect();
+    assert_eq!(ranges, [&range((8, 0), (8, 4)), &range((6, 0), (6, 8))]);
+
     // One subprogram, from its O word to its M99.
     let symbols = server.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri}}));
     let symbols = symbols.as_array().unwrap();

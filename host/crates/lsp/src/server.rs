@@ -14,15 +14,15 @@ use lsp_types::notification::{
     DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Notification as _, PublishDiagnostics,
 };
 use lsp_types::request::{
-    CodeActionRequest, Completion, DocumentSymbolRequest, GotoDefinition, HoverRequest, Request as _,
+    CodeActionRequest, Completion, DocumentSymbolRequest, GotoDefinition, HoverRequest, References, Request as _,
 };
 use lsp_types::{
     CodeActionKind, CodeActionParams, CodeActionProviderCapability, CompletionItem, CompletionItemKind,
     CompletionOptions, CompletionParams, CompletionResponse, DocumentSymbol, DocumentSymbolParams,
     DocumentSymbolResponse, Documentation, GotoDefinitionParams, GotoDefinitionResponse, Hover, HoverContents,
     HoverParams, HoverProviderCapability, InitializeParams, Location, MarkupContent, MarkupKind, OneOf, Position,
-    PublishDiagnosticsParams, Range, ServerCapabilities, ServerInfo, SymbolKind, TextDocumentSyncCapability,
-    TextDocumentSyncKind, TextDocumentSyncOptions, Url,
+    PublishDiagnosticsParams, Range, ReferenceParams, ServerCapabilities, ServerInfo, SymbolKind,
+    TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions, Url,
 };
 use serde::de::DeserializeOwned;
 
@@ -31,6 +31,7 @@ use crate::codes::{self, codes};
 use crate::outline::{token_at, Block};
 use crate::text::{byte_of_utf16, Document};
 use crate::{actions, Options, WizardInfo};
+use ger_engine::core::diag::Span;
 use ger_engine::core::emit::push_number;
 use ger_engine::core::lex::TokenKind;
 use ger_engine::core::statement::Dialect;
@@ -65,6 +66,7 @@ pub fn serve(connection: Connection, options: Options) -> Result<(), Error> {
         })),
         hover_provider: Some(HoverProviderCapability::Simple(true)),
         definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
         document_symbol_provider: Some(OneOf::Left(true)),
         code_action_provider: Some(CodeActionProviderCapability::Options(lsp_types::CodeActionOptions {
             code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
@@ -288,6 +290,7 @@ impl Shared {
             GotoDefinition::METHOD => {
                 self.with(request, |s, p: GotoDefinitionParams| serde_json::to_value(s.definition(p)))
             }
+            References::METHOD => self.with(request, |s, p: ReferenceParams| serde_json::to_value(s.references(p))),
             DocumentSymbolRequest::METHOD => {
                 self.with(request, |s, p: DocumentSymbolParams| serde_json::to_value(s.symbols(p)))
             }
@@ -398,6 +401,31 @@ impl Shared {
         let start = block.start;
         let range = document.lines.range(&document.text, start.line, start.col, start.len);
         Some(GotoDefinitionResponse::Scalar(Location { uri: uri.clone(), range }))
+    }
+
+    /// The calls of the subprogram called or defined at the cursor (and its
+    /// definition, if the editor asks for it).
+    fn references(&self, p: ReferenceParams) -> Option<Vec<Location>> {
+        let uri = &p.text_document_position.text_document.uri;
+        let position = p.text_document_position.position;
+        let analysis = self.analysis(uri)?;
+        let documents = lock(&self.documents);
+        let document = &documents.get(uri)?.document;
+        let line_text = document.lines.line(&document.text, position.line as usize);
+        let col = byte_of_utf16(line_text, position.character) as u32 + 1;
+        let line = position.line + 1;
+        let outline = &analysis.outline;
+        let label = match outline.call_at(line, col) {
+            Some(call) => call.label.clone(),
+            None => outline.blocks.iter().find(|b| b.start.line == line)?.label.clone()?,
+        };
+        let location = |span: Span| Location {
+            uri: uri.clone(),
+            range: document.lines.range(&document.text, span.line, span.col, span.len),
+        };
+        let definition = outline.definition(&label).filter(|_| p.context.include_declaration);
+        let calls = outline.calls.iter().filter(|call| call.label == label);
+        Some(definition.map(|b| b.start).into_iter().chain(calls.map(|call| call.span)).map(location).collect())
     }
 
     /// The subprograms and O-word blocks, nested as they are.
