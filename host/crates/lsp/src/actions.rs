@@ -14,6 +14,10 @@ use ger_engine::core::diag::Diagnostic;
 /// the program", or the F a rapid may not have.
 pub fn fix(d: &Diagnostic, culprit: &str) -> Option<Fix> {
     let help = d.help.as_deref().unwrap_or("");
+    // The culprit is one word: the one that the replacement stands for.
+    if culprit.is_empty() || culprit.contains(char::is_whitespace) {
+        return None;
+    }
     if let Some(rest) = help.strip_prefix("did you mean ") {
         let code = rest.split('?').next().filter(|code| is_code(code))?;
         return Some(Fix { title: format!("Replace `{culprit}` with `{code}`"), replacement: code.to_string() });
@@ -90,6 +94,8 @@ mod tests {
         assert_eq!(fix(&rapid, "F100").unwrap().replacement, "");
         // Help that shows an example is no fix.
         assert!(fix(&error("G04 needs P", "write e.g. G04 P0.5"), "G04").is_none());
+        // A span over more than the word: no telling what the replacement stands for.
+        assert!(fix(&typo, "GO1 X10").is_none());
         assert!(fix(
             &error("an S word (spindle speed) goes with M03 or M04", "write e.g. M03 S1000, or run with --lenient"),
             "S1000"
