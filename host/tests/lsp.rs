@@ -187,6 +187,12 @@ fn an_editor_session_over_stdio() {
     assert_eq!(edit["range"], range((7, 10), (7, 13)));
     assert_eq!(edit["newText"], "M30");
     assert_eq!(actions[0]["kind"], "quickfix");
+    // Or, as the help says, the lenient dialect: first in ger.toml.
+    let config_uri = format!("file://{}", dir.path().join("ger.toml").display());
+    let edit = &actions[1]["edit"]["changes"][&config_uri][0];
+    assert_eq!(edit["range"], range((0, 0), (0, 0)));
+    assert_eq!(edit["newText"], "dialect = \"lenient\"\n");
+    assert_eq!(actions.as_array().unwrap().len(), 2);
 
     // An incremental edit: "02" becomes "30". Nothing is left to say.
     server.notify(

@@ -7,7 +7,6 @@ use std::path::Path;
 use std::sync::Arc;
 
 use lsp_types::{DiagnosticRelatedInformation, DiagnosticSeverity, Location, NumberOrString, Url};
-use serde::{Deserialize, Serialize};
 
 use crate::outline::Outline;
 use crate::text::Lines;
@@ -32,14 +31,6 @@ pub struct Analysis {
     /// move (in machine coordinates and units), in order of line.
     positions: Vec<(u32, [f64; 3])>,
     pub diagnostics: Vec<lsp_types::Diagnostic>,
-}
-
-/// A mechanical fix of a diagnostic, carried in its `data` for code actions.
-#[derive(Serialize, Deserialize, Debug, PartialEq)]
-pub struct Fix {
-    pub title: String,
-    /// What replaces the diagnostic's range.
-    pub replacement: String,
 }
 
 impl Analysis {
@@ -266,7 +257,7 @@ fn diagnostic(rule: Option<Rule>, d: &Diagnostic, text: &str, lines: &Lines, uri
     }
     let line_text = lines.line(text, span.line.saturating_sub(1) as usize);
     let culprit = line_text.get(span.col.saturating_sub(1) as usize..(span.col + span.len).saturating_sub(1) as usize);
-    let fix = crate::actions::fix(d, culprit.unwrap_or(""));
+    let fixes = crate::actions::fixes(d, culprit.unwrap_or(""));
     lsp_types::Diagnostic {
         range,
         severity: Some(match d.severity {
@@ -277,7 +268,7 @@ fn diagnostic(rule: Option<Rule>, d: &Diagnostic, text: &str, lines: &Lines, uri
         source: Some("ger".to_string()),
         message,
         related_information: (!related.is_empty()).then_some(related),
-        data: fix.map(|fix| serde_json::to_value(fix).expect("a fix serialises")),
+        data: (!fixes.is_empty()).then(|| serde_json::to_value(fixes).expect("a fix serialises")),
         ..lsp_types::Diagnostic::default()
     }
 }

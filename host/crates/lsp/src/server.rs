@@ -294,8 +294,9 @@ impl Shared {
             DocumentSymbolRequest::METHOD => {
                 self.with(request, |s, p: DocumentSymbolParams| serde_json::to_value(s.symbols(p)))
             }
-            CodeActionRequest::METHOD => self.with(request, |_, p: CodeActionParams| {
-                serde_json::to_value(actions::code_actions(&p.text_document.uri, &p.context.diagnostics))
+            CodeActionRequest::METHOD => self.with(request, |s, p: CodeActionParams| {
+                let uri = &p.text_document.uri;
+                serde_json::to_value(actions::code_actions(uri, &s.config_of(uri), &p.context.diagnostics))
             }),
             Completion::METHOD => self.with(request, |s, p: CompletionParams| serde_json::to_value(s.completion(p))),
             method => return method_not_found(id, method),
@@ -312,6 +313,13 @@ impl Shared {
         answer: impl FnOnce(&Shared, P) -> serde_json::Result<serde_json::Value>,
     ) -> Option<serde_json::Result<serde_json::Value>> {
         Some(answer(self, params(request.params)?))
+    }
+
+    /// The config file of the program `uri` names: the one given, or `ger.toml` beside it.
+    fn config_of(&self, uri: &Url) -> PathBuf {
+        let path = uri.to_file_path().unwrap_or_default();
+        let beside = || path.with_file_name("ger.toml");
+        self.options.settings.config.clone().unwrap_or_else(beside)
     }
 
     fn analysis(&self, uri: &Url) -> Option<Arc<Analysis>> {
