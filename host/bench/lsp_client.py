@@ -81,8 +81,8 @@ def main():
     lines = text.count("\n")
     uri = "file://" + program
     server = Server(ger, os.path.dirname(program))
-    server.wait(lambda m: m.get("id") == server.request("initialize", {"processId": None, "rootUri": None,
-                                                                        "capabilities": {}}))
+    asked = server.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
+    server.wait(lambda m: m.get("id") == asked)
     server.notify("initialized", {})
     start = time.perf_counter()
     server.notify("textDocument/didOpen", {"textDocument": {"uri": uri, "languageId": "gcode", "version": 1,
@@ -119,7 +119,8 @@ def main():
     latencies.sort()
     print(f"hover while analysing: {len(latencies)} hovers, median {statistics.median(latencies) * 1000:.1f} ms, "
           f"max {latencies[-1] * 1000:.1f} ms")
-    server.wait(lambda m: m.get("id") == server.request("shutdown", None))
+    asked = server.request("shutdown", None)
+    server.wait(lambda m: m.get("id") == asked)
     server.notify("exit", None)
     server.process.wait(timeout=60)
 

@@ -53,14 +53,15 @@ pub(crate) fn main(args: LspArgs) -> Result<i32> {
 }
 
 /// What each wizard of the folder says about itself (`ger wizard list`'s
-/// descriptions); one that cannot describe itself is left out.
+/// descriptions), for those built: describing builds nothing (a call does,
+/// unless `--no-build`). One that cannot describe itself is left out.
 fn describe(options: &WizardOptions) -> Vec<WizardInfo> {
     let Ok(found) = catalog::scan(&options.dir) else { return Vec::new() };
-    let mut runtime = options.runtime(&Config::default());
+    let mut runtime = WizardOptions { no_build: true, ..options.clone() }.runtime(&Config::default());
     let shown = |text: &str| clip(text, SHOWN_MESSAGE).into_owned();
     found
         .entries()
-        .filter(|entry| !options.no_build || entry.wasm.exists())
+        .filter(|entry| entry.wasm.exists())
         .filter_map(|entry| {
             runtime.start();
             let d = runtime.describe(&entry.name).ok()?;
