@@ -230,6 +230,11 @@ fn an_editor_session_over_stdio() {
     let ranges: Vec<&Value> = references.as_array().unwrap().iter().map(|r| &r["range"]).collect();
     assert_eq!(ranges, [&range((8, 0), (8, 4)), &range((6, 0), (6, 8))]);
 
+    // Completion: the codes of the README's table, each with its form.
+    let items = server.request("textDocument/completion", at(&uri, 5, 0));
+    let g01 = items.as_array().unwrap().iter().find(|item| item["label"] == "G01").expect("G01 offered");
+    assert_eq!(g01["detail"], "G01 [Xn] [Yn] [Zn] [Fn]");
+
     // One subprogram, from its O word to its M99.
     let symbols = server.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri}}));
     let symbols = symbols.as_array().unwrap();
