@@ -4,6 +4,7 @@
 mod check;
 mod compare;
 mod error;
+mod lsp;
 mod render;
 mod view;
 mod wizard;
@@ -57,6 +58,9 @@ enum Command {
     /// Serve a page on 127.0.0.1 that shows the program, its translation, its
     /// diagnostics and the simulated part, updated live as any of them changes.
     View(Box<view::ViewArgs>),
+    /// Serve the Language Server Protocol on standard input and output, for
+    /// editors: diagnostics as you type, hover, definitions, symbols, fixes.
+    Lsp(Box<lsp::LspArgs>),
 }
 
 #[derive(Args)]
@@ -197,6 +201,7 @@ pub fn main() -> i32 {
         Command::Pulses(args) => render::pulses(&args),
         Command::Wizard(command) => wizard::main(command),
         Command::View(args) => view::main(*args),
+        Command::Lsp(args) => lsp::main(*args),
     };
     match result {
         Ok(status) => status,
@@ -207,16 +212,22 @@ pub fn main() -> i32 {
     }
 }
 
+impl From<UnitsArg> for Units {
+    fn from(units: UnitsArg) -> Units {
+        match units {
+            UnitsArg::Inch => Units::Inch,
+            UnitsArg::Mm => Units::Mm,
+        }
+    }
+}
+
 impl CommonArgs {
     /// What the command line says about the machine.
     fn settings(&self) -> Settings {
         Settings {
             config: self.config.clone(),
             lenient: self.lenient,
-            units: self.units.map(|units| match units {
-                UnitsArg::Inch => Units::Inch,
-                UnitsArg::Mm => Units::Mm,
-            }),
+            units: self.units.map(Units::from),
             target: None,
         }
     }

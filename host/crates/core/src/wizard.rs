@@ -25,6 +25,12 @@ pub const SHOWN_NAME: usize = 64;
 /// diagnostic shows.
 pub const SHOWN_MESSAGE: usize = 1000;
 
+/// The key a wizard is found by: its name, ignoring case, `-` and `_`
+/// (`BoltCircle` runs `boltcircle.wasm` or `bolt-circle.wasm`).
+pub fn key(name: &str) -> String {
+    name.chars().filter(|c| !matches!(c, '-' | '_')).flat_map(char::to_lowercase).collect()
+}
+
 /// A wizard's name as diagnostics show it: cut to [`SHOWN_NAME`] characters.
 pub fn shown_name(name: &str) -> std::borrow::Cow<'_, str> {
     clip(name, SHOWN_NAME)

@@ -93,6 +93,9 @@ impl<'p> Parts<'p> {
             }
             if n % 4096 == 0 {
                 progress.advance(count.load(Ordering::Relaxed));
+                if progress.stopped() {
+                    break;
+                }
             }
         }
         progress.end();

@@ -89,6 +89,39 @@ fn progress_is_told_of_each_pass_over_the_program() {
     assert_eq!(progress.total, SLOT.len() as u64);
 }
 
+/// Stops the pass once told of `after` bytes read.
+struct StopAfter(u64, u64);
+
+impl Progress for StopAfter {
+    fn advance(&mut self, done: u64) {
+        self.1 = done;
+    }
+
+    fn stopped(&self) -> bool {
+        self.1 >= self.0
+    }
+}
+
+#[test]
+fn a_pass_stops_when_its_progress_says_so() {
+    // 10,000 moves, each its own statement: progress is asked every 4096 events.
+    let text: String = (0..10_000).map(|i| format!("G01 X{} F10\n", i % 7)).collect();
+    let mut program = Program::new(Source::text("long.nc", ".", text), Config::default());
+    let count = |program: &mut Program, progress: &mut dyn Progress| {
+        let mut events = 0;
+        program.for_each_event("checking", progress, |_| {
+            events += 1;
+            true
+        });
+        events
+    };
+    assert_eq!(count(&mut program, &mut Silent), 10_000);
+    // Asked after the first event, it stops there; wanting 1000 bytes read
+    // (90 lines of 11 bytes), it stops at the next asking, after event 4097.
+    assert_eq!(count(&mut program, &mut StopAfter(0, 0)), 1);
+    assert_eq!(count(&mut program, &mut StopAfter(1000, 0)), 4097);
+}
+
 #[test]
 fn the_stock_by_margin_is_the_cut_and_the_part_has_the_slot() {
     let mut program = slot();
