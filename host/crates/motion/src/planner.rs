@@ -145,15 +145,8 @@ impl<T> Planner<T> {
             self.execute_front(clock);
         }
         self.previous = Some((unit, nominal));
-        let block = Block {
-            length,
-            acceleration,
-            nominal,
-            max_entry_sqr,
-            braking_sqr: 0.0,
-            entry_sqr: max_entry_sqr,
-            tag,
-        };
+        let block =
+            Block { length, acceleration, nominal, max_entry_sqr, braking_sqr: 0.0, entry_sqr: max_entry_sqr, tag };
         self.blocks.push_back(block);
         self.replan();
     }
