@@ -123,7 +123,8 @@ impl<T> Planner<T> {
         let target = (target * self.steps).round() / self.steps;
         let delta = target - self.position;
         let length = delta.length();
-        if !(length > 0.0) || !length.is_finite() {
+        // Also NaN and infinity: no block.
+        if !(length.is_finite() && length > 0.0) {
             return;
         }
         self.position = target;
