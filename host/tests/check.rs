@@ -70,7 +70,10 @@ fn the_json_report_has_its_documented_shape() {
     let calls = planned["calls"].as_array().unwrap();
     assert_eq!(calls.len(), 2, "{calls:?}");
     for (call, line) in calls.iter().zip([5, 7]) {
-        assert_eq!((call["name"].as_str(), call["line"].as_u64(), call["column"].as_u64()), (Some("O10"), Some(line), Some(1)));
+        assert_eq!(
+            (call["name"].as_str(), call["line"].as_u64(), call["column"].as_u64()),
+            (Some("O10"), Some(line), Some(1))
+        );
     }
     // The first call feeds 20 mm at 200 mm/min (6 s) and rapids 4 mm on Z;
     // the second is already at Y30: its rapids alone, well under a second.

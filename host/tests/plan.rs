@@ -201,6 +201,10 @@ fn the_planned_time_is_grbls_within_two_percent() {
         support::peer_missing(&format!("GRBL's gtime.py is not at {}: the plan test did NOT run", gtime().display()));
         return;
     }
+    if !Command::new("python3").arg("--version").output().is_ok_and(|o| o.status.success()) {
+        support::peer_missing("python3, which runs GRBL's gtime.py, is missing: the plan test did NOT run");
+        return;
+    }
     let scratch = tempfile::tempdir().unwrap();
     let jobs = jobs(scratch.path());
     // Two workers: ger's check, then gtime, one program at a time each.
@@ -241,7 +245,11 @@ fn the_planned_time_is_grbls_within_two_percent() {
     let mut rows = rows.into_inner().unwrap();
     rows.sort_by(|a, b| a.name.cmp(&b.name));
     let failures = failures.into_inner().unwrap();
-    eprintln!("gtime ran {} programs in {:.0} s of its wall time", rows.len(), gtime_wall.into_inner().unwrap().as_secs_f64());
+    eprintln!(
+        "gtime ran {} programs in {:.0} s of its wall time",
+        rows.len(),
+        gtime_wall.into_inner().unwrap().as_secs_f64()
+    );
 
     let table = table(&rows);
     let path = repository().join("tests/corpus/PLAN.md");
@@ -266,7 +274,8 @@ fn the_planned_time_is_grbls_within_two_percent() {
 
 /// `tests/corpus/PLAN.md`.
 fn table(rows: &[Row]) -> String {
-    let mean = |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).sum::<f64>() / rows.len().max(1) as f64;
+    let mean =
+        |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).sum::<f64>() / rows.len().max(1) as f64;
     let worst = |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
     let planned = |r: &Row| r.error();
     let programmed = |r: &Row| relative(r.programmed, r.grbl);
@@ -292,7 +301,10 @@ fn table(rows: &[Row]) -> String {
         mean(&programmed),
         worst(&programmed)
     );
-    let _ = writeln!(out, "| program | lines | GRBL (s) | ger planned (s) | difference | at programmed feeds (s) | difference |");
+    let _ = writeln!(
+        out,
+        "| program | lines | GRBL (s) | ger planned (s) | difference | at programmed feeds (s) | difference |"
+    );
     let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
     for r in rows {
         let _ = writeln!(

@@ -54,6 +54,12 @@ try {
     if (!(await page.locator(`#editor .backdrop .hl[data-line="${sourceLine}"]`).count())) {
       fail(`the program pane does not highlight line ${sourceLine}`);
     }
+    // The status says when the planned run gets there, of how long in all.
+    const runTime = await page.locator('#runTime').textContent();
+    if (!/^reaches line \d+ at [\d.]+ s|^reaches line \d+ at \d+ min \d\d s/.test(runTime) || !runTime.startsWith(`reaches line ${sourceLine} `)) {
+      fail(`the status says "${runTime}", not when the run reaches line ${sourceLine}`);
+    }
+    if (!runTime.includes('planned (grbl-default')) fail(`the status says "${runTime}", not the planned time and its profile`);
   });
 
   await step('clicking a move in the 3D view selects its output line', async () => {

@@ -273,7 +273,8 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
         d = decimals
     );
     let planned = &s.planned;
-    let _ = writeln!(out, "  run time  {} planned on {}", duration(planned.seconds), profile_text(&planned.profile, unit));
+    let _ =
+        writeln!(out, "  run time  {} planned on {}", duration(planned.seconds), profile_text(&planned.profile, unit));
     let _ = writeln!(
         out,
         "            {} at programmed feeds (rapids at {} {unit}/min, no acceleration)",

@@ -1,11 +1,12 @@
 //! Plans a program's run time, as `ger check` does, without the simulation:
 //! what `host/bench/plan.sh` times, and a quick way to compare with GRBL.
 //!
-//!     cargo run --release -p ger-motion --example plan -- PROGRAM [CONFIG]
+//!     cargo run --release -p ger-motion --example plan -- [--translate-only] PROGRAM [CONFIG]
 //!
 //! Prints the planned seconds, then (tab-separated) when the first move
-//! started and the last ended. A program of subprograms kept in other files
-//! or of wizard calls needs `ger check`.
+//! started and the last ended; `--translate-only` translates the same way
+//! and plans nothing, for the bench to tell the planner's cost. A program of
+//! subprograms kept in other files or of wizard calls needs `ger check`.
 
 use std::io::BufReader;
 
@@ -15,9 +16,13 @@ use ger_core::wizard::NoWizards;
 use ger_motion::Run;
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let translate_only = args.first().is_some_and(|a| a == "--translate-only");
+    if translate_only {
+        args.remove(0);
+    }
     let Some(program) = args.first() else {
-        eprintln!("usage: plan PROGRAM [CONFIG]");
+        eprintln!("usage: plan [--translate-only] PROGRAM [CONFIG]");
         std::process::exit(2);
     };
     let config = match args.get(1) {
@@ -35,7 +40,8 @@ fn main() {
     let mut errors = 0;
     for event in translate(BufReader::new(file), Library::empty(), options) {
         match event {
-            Event::Statement(statement) => run.statement(&statement, (), &mut clock),
+            Event::Statement(statement) if !translate_only => run.statement(&statement, (), &mut clock),
+            Event::Statement(_) => {}
             Event::Diagnostic(d) if d.is_error() => errors += 1,
             Event::Diagnostic(_) => {}
         }

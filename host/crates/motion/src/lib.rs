@@ -132,7 +132,8 @@ impl<T: Clone> Run<T> {
 pub fn arc_lines(radius: f64, sweep: f64, tolerance: f64) -> usize {
     // A chord whose middle is `tolerance` inside the circle is 2 sqrt(tol (2r - tol)) long.
     let half_chord = (tolerance * (2.0 * radius - tolerance)).sqrt();
-    if !(half_chord > 0.0) {
+    // A radius below half the tolerance makes it NaN: one line.
+    if half_chord.is_nan() || half_chord <= 0.0 {
         return 1;
     }
     let lines = (0.5 * sweep.abs() * radius / half_chord).floor();

@@ -123,7 +123,8 @@ impl<T> Planner<T> {
         let target = (target * self.steps).round() / self.steps;
         let delta = target - self.position;
         let length = delta.length();
-        if !(length > 0.0) || !length.is_finite() {
+        // Also NaN and infinity: no block.
+        if !(length.is_finite() && length > 0.0) {
             return;
         }
         self.position = target;
@@ -145,15 +146,8 @@ impl<T> Planner<T> {
             self.execute_front(clock);
         }
         self.previous = Some((unit, nominal));
-        let block = Block {
-            length,
-            acceleration,
-            nominal,
-            max_entry_sqr,
-            braking_sqr: 0.0,
-            entry_sqr: max_entry_sqr,
-            tag,
-        };
+        let block =
+            Block { length, acceleration, nominal, max_entry_sqr, braking_sqr: 0.0, entry_sqr: max_entry_sqr, tag };
         self.blocks.push_back(block);
         self.replan();
     }

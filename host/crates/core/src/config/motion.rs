@@ -147,21 +147,15 @@ impl MotionConfig {
 
     /// Holds every key to what a machine could mean, in `units`; the error
     /// is at the key, through `at`.
-    pub(super) fn validate(
-        &self,
-        units: Units,
-        at: &dyn Fn(&[Step], String) -> Diagnostic,
-    ) -> Result<(), Diagnostic> {
+    pub(super) fn validate(&self, units: Units, at: &dyn Fn(&[Step], String) -> Diagnostic) -> Result<(), Diagnostic> {
         let limits = Limits::of(units);
         let key = |name| [Step::Key("machine"), Step::Key("motion"), Step::Key(name)];
-        let axes = |name: &'static str, values: Option<[f64; 3]>, range: (f64, f64), what: &str| {
-            match values {
-                Some(v) if v.iter().any(|x| !(range.0..=range.1).contains(x)) => Err(at(
-                    &key(name),
-                    format!("[machine.motion] {name} must be three {what} from {} to {}", quoted(range.0), quoted(range.1)),
-                )),
-                _ => Ok(()),
-            }
+        let axes = |name: &'static str, values: Option<[f64; 3]>, range: (f64, f64), what: &str| match values {
+            Some(v) if v.iter().any(|x| !(range.0..=range.1).contains(x)) => Err(at(
+                &key(name),
+                format!("[machine.motion] {name} must be three {what} from {} to {}", quoted(range.0), quoted(range.1)),
+            )),
+            _ => Ok(()),
         };
         let unit = units.abbreviation();
         axes("max_rate", self.max_rate, limits.rate, &format!("speeds ({unit}/min, X Y Z)"))?;
@@ -382,7 +376,11 @@ mod tests {
     fn bad_motion_keys_are_errors_at_the_key() {
         for (text, line, words) in [
             ("[machine.motion]\npreset = \"grbl\"\n", 2, "grbl-default"),
-            ("[machine.motion]\nmax_rate = [5000, 0, 1000]\n", 2, "max_rate must be three speeds (mm/min, X Y Z) from 1 to 1000000"),
+            (
+                "[machine.motion]\nmax_rate = [5000, 0, 1000]\n",
+                2,
+                "max_rate must be three speeds (mm/min, X Y Z) from 1 to 1000000",
+            ),
             ("[machine.motion]\nacceleration = [500, 500, 1e9]\n", 2, "from 0.1 to 100000"),
             ("[machine.motion]\njunction_deviation = -0.01\n", 2, "from 0 to 100 mm"),
             ("[machine.motion]\narc_tolerance = 0\n", 2, "from 0.0001 to 100 mm"),
