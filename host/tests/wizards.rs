@@ -911,14 +911,14 @@ fn watch_translates_again_when_the_program_or_a_wizard_changes() {
     std::fs::write(&program, "G21\nF100\nX3\nWw 10 20 1\nM30\n").unwrap();
     let second = next_run();
     assert!(second.contains(&"G00 X13.000 Y0.000".to_string()), "{second:?}");
-    // Pocket 10 x 20 x 1: rows along X, stepping in Y, which BoltCircle never does.
+    // Pocket 10 x 20 x 1: feeds across XY (its rings), which BoltCircle never makes.
     // Later than the run's own writes, which the watcher lets pass.
     std::thread::sleep(std::time::Duration::from_millis(500));
     std::fs::copy(repo("wizards/pocket.wasm"), wizards.join("ww.wasm")).unwrap();
     let third = next_run();
     child.kill().unwrap();
     child.wait().unwrap();
-    assert!(third.iter().any(|l| l.starts_with("G01 Y")), "{third:?}");
+    assert!(third.iter().any(|l| l.starts_with("G01 X") && l.contains(" Y")), "{third:?}");
     assert!(!third.contains(&"G00 X13.000 Y0.000".to_string()), "{third:?}");
 }
 
