@@ -106,6 +106,42 @@ fn the_json_report_has_its_documented_shape() {
     let (report, status) = json("tests/check/plunge.ngc", &[]);
     assert_eq!((status, report["warnings"].as_u64()), (Some(0), Some(1)));
 
+    // A holder's collision, and the tool assembly as the table gives it.
+    let (report, status) = json("tests/check/holder_collision.ngc", &[]);
+    assert_valid(&validator, &report);
+    assert_eq!((status, report["errors"].as_u64()), (Some(1), Some(3)));
+    assert_eq!(
+        (report["diagnostics"][0]["rule"].as_str(), report["diagnostics"][0]["line"].as_u64()),
+        (Some("collision"), Some(26))
+    );
+    let tools = &report["summary"]["tools"];
+    assert_eq!(tools[1]["number"], 1);
+    assert_eq!((tools[1]["stick_out"].as_f64(), tools[1]["unchecked"].is_null()), (Some(22.0), true));
+    assert_eq!(tools[1]["holder"], serde_json::json!([[30.0, 30.0, 40.0]]));
+    assert_eq!(tools[0]["unchecked"], "holder not configured: only the shank is checked");
+    let (report, _) = json("tests/check/fixture.ngc", &[]);
+    assert_valid(&validator, &report);
+    assert_eq!(
+        (report["diagnostics"][0]["rule"].as_str(), report["diagnostics"][0]["line"].as_u64()),
+        (Some("fixture"), Some(6))
+    );
+
+    // A job: each program's report, in order, and the job's counts; the
+    // finishing program alone has a rapid into the stock, after its roughing none.
+    let (report, status) = json("tests/check/job.ngc", &["job_roughing.nc"]);
+    let programs = report["programs"].as_array().unwrap();
+    assert_eq!(status, Some(0));
+    assert_eq!(
+        programs.iter().map(|p| p["file"].as_str().unwrap()).collect::<Vec<_>>(),
+        ["job_roughing.nc", "job.ngc"]
+    );
+    for program in programs {
+        assert_valid(&validator, program);
+    }
+    assert_eq!((report["errors"].as_u64(), report["warnings"].as_u64()), (Some(0), Some(0)));
+    let (report, status) = json("tests/check/job_alone.ngc", &[]);
+    assert_eq!((status, report["diagnostics"][0]["rule"].as_str()), (Some(1), Some("rapid-into-stock")));
+
     // Each tool says what it is and where it came from: the config file, a comment, the default.
     let (report, _) = json("tests/check/default_tool_clean.ngc", &[]);
     assert_valid(&validator, &report);
@@ -176,7 +212,9 @@ fn programs_meant_to_be_clean_have_no_findings() {
         for (i, word) in words.iter().enumerate() {
             match *word {
                 "--lenient" => args.push(word.to_string()),
-                "--units" | "--wizards" => args.extend([word.to_string(), words[i + 1].to_string()]),
+                "--units" | "--wizards" | "--stock-from" => args.extend([word.to_string(), words[i + 1].to_string()]),
+                // A job's programs before this one (tests/check/job.ngc).
+                more if more.ends_with(".nc") => args.push(more.to_string()),
                 _ => {}
             }
         }

@@ -90,6 +90,30 @@ fn the_3d_view_shows_the_part_on_an_empty_background_with_the_toolpath_over_it()
 }
 
 #[test]
+fn the_3d_view_draws_the_fixtures_in_their_own_colour() {
+    let green = |png: &Png| {
+        png.pixels.iter().filter(|c| c[1] as i32 > c[0] as i32 + 30 && c[1] as i32 > c[2] as i32 + 30).count()
+    };
+    let dir = setup(POCKETS, BLOCK);
+    ok(&ger(
+        dir.path(),
+        &["render", "part.ngc", "-o", "plain.png", "--size", "320x240", "--view", "top", "--format", "3d"],
+    ));
+    assert_eq!(green(&Png::read(&dir.path().join("plain.png"))), 0, "nothing green without fixtures");
+    // A jaw 0.4 x 1 in beside the 2 x 1 in block: seen from above, about a seventh of the picture's width.
+    let jaw = "[[fixtures]]\nname = \"jaw\"\nmin = [2.2, 0, -0.5]\nmax = [2.6, 1, 0.2]\n";
+    std::fs::write(dir.path().join("ger.toml"), format!("{BLOCK}{jaw}")).unwrap();
+    ok(&ger(
+        dir.path(),
+        &["render", "part.ngc", "-o", "jaw.png", "--size", "320x240", "--view", "top", "--format", "3d"],
+    ));
+    let png = Png::read(&dir.path().join("jaw.png"));
+    let (jaw, all) = (green(&png), png.pixels.iter().filter(|c| **c != [255, 255, 255]).count());
+    let share = jaw as f64 / all as f64;
+    assert!((0.10..0.20).contains(&share), "the jaw is {jaw} of {all} drawn pixels");
+}
+
+#[test]
 fn the_toolpath_alone_has_rapids_and_feeds_in_their_colours() {
     let dir = setup(POCKETS, BLOCK);
     ok(&ger(dir.path(), &["render", "part.ngc", "-o", "tp.png", "--toolpath", "--view", "top", "--size", "200x100"]));
@@ -142,6 +166,31 @@ fn the_stl_is_watertight_and_holds_the_stock_less_the_cut() {
                 / 6.0
         })
         .sum();
+    let want = 2.0 * 1.0 * 0.5 - std::f64::consts::PI * 0.225f64.powi(2) * (0.1 + 0.3);
+    assert!((volume / want - 1.0).abs() < 0.01, "{volume} vs {want}");
+}
+
+fn stl_volume(path: &Path) -> f64 {
+    read_stl(path)
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|p| p.map(f64::from));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn a_job_renders_the_part_all_its_programs_cut() {
+    // The two pockets of POCKETS as two programs, one after the other, on one block.
+    let first = "G20\nG00 Z0.1\nX0.5 Y0.5\nG01 Z-0.1 F10\nG02 X0.5 Y0.5 I0.1 J0\nG00 Z0.1\nM30\n";
+    let second = "G20\nG00 Z0.1\nX1.5 Y0.5\nG01 Z-0.3 F10\nG02 X1.5 Y0.5 I0.1 J0\nG00 Z0.1\nM30\n";
+    let dir = setup(first, BLOCK);
+    std::fs::write(dir.path().join("second.ngc"), second).unwrap();
+    ok(&ger(dir.path(), &["render", "part.ngc", "second.ngc", "-o", "job.stl", "--resolution", "0.01"]));
+    let volume = stl_volume(&dir.path().join("job.stl"));
     let want = 2.0 * 1.0 * 0.5 - std::f64::consts::PI * 0.225f64.powi(2) * (0.1 + 0.3);
     assert!((volume / want - 1.0).abs() < 0.01, "{volume} vs {want}");
 }

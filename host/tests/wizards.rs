@@ -126,15 +126,88 @@ fn pocket_stays_inside_covers_the_floor_and_never_goes_too_deep() {
     let levels: std::collections::BTreeSet<i64> =
         moves.iter().filter(|m| m.0 == 1 && m.1[2] == m.2[2]).map(|m| (m.2[2] * 1000.0).round() as i64).collect();
     assert_eq!(levels.into_iter().collect::<Vec<_>>(), [-10_000, -8_000, -4_000]);
-    // Down to each by ramps along the first row, never steeper than 3 degrees, never straight down.
+    // Down to each by ramps in the middle, never steeper than 3 degrees
+    // (a chord is no longer than its arc), never straight down.
     for (mode, a, b) in moves.iter().filter(|m| m.0 == 1 && m.1[2] != m.2[2]) {
         let run = (b[0] - a[0]).hypot(b[1] - a[1]);
-        assert!(run > 0.0 && (a[2] - b[2]) / run <= 3f64.to_radians().tan() + 1e-9, "G0{mode} {a:?} -> {b:?}");
-        assert!(
-            (a[1] - (y0 + r)).abs() < eps && (b[1] - (y0 + r)).abs() < eps,
-            "not along the first row: {a:?} -> {b:?}"
-        );
+        // Written to 4 decimals: each end may be 0.00005 off.
+        let rounding = 1e-4 / run;
+        assert!(run > 0.0 && (a[2] - b[2]) / run <= 3f64.to_radians().tan() + rounding, "G0{mode} {a:?} -> {b:?}");
+        let middle = y0 + width / 2.0;
+        assert!((a[1] - middle).abs() <= r && (b[1] - middle).abs() <= r, "not in the middle: {a:?} -> {b:?}");
     }
+}
+
+#[test]
+fn pocket_rounds_its_corners_enters_by_helix_and_climbs_in_either_unit() {
+    // (unit, tool, call, the pocket's corner, size and depth, a cell)
+    let cases = [
+        ("mm", "endmill\"\ndiameter = 6", "Pocket 40 30 6 3 3 3.6 8 0.3 \"helix\"", 8.0, [40.0, 30.0, 6.0], 0.1),
+        ("mm", "ballmill\"\ndiameter = 4", "Pocket 40 30 6 2 3 2 5", 5.0, [40.0, 30.0, 6.0], 0.1),
+        ("inch", "endmill\"\ndiameter = 0.25", "Pocket 2 1.5 0.3 0.1 3 0.15 0.4 0.01", 0.4, [2.0, 1.5, 0.3], 0.004),
+    ];
+    for (unit, tool, call, corner, [length, width, depth], cell) in cases {
+        let (x0, y0) = (10.0 * cell, 10.0 * cell);
+        let g = if unit == "mm" { 21 } else { 20 };
+        let program =
+            format!("G{g} G90\nM06 T1\nM03 S12000\nG00 X{x0} Y{y0} Z1\nG01 Z0 F100\n{call}\nG00 Z1\nM05\nM30\n");
+        let config = format!(
+            "units = \"{unit}\"\n[stock]\nsize = [{}, {}, {}]\n[[tools]]\nnumber = 1\nkind = \"{tool}\n\
+             flute_length = {}\n",
+            length + 20.0 * cell,
+            width + 20.0 * cell,
+            2.0 * depth,
+            2.0 * depth
+        );
+        // Climb milling with M03 inside a pocket is counter-clockwise: its
+        // rounded corners and its helix are G03 arcs, never G02.
+        let (lines, _) = run("wizards", &Config::from_toml(&config).unwrap(), &program);
+        assert!(lines.iter().any(|l| l.starts_with("G03")) && !lines.iter().any(|l| l.starts_with("G02")), "{call}");
+        // No plunge, no rapid into the stock, nothing ger warns of.
+        let (status, report) = denied_check(&program, &config);
+        assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
+        let field = simulated(&program, &config, cell);
+        let at = |dx: f64, dy: f64| height_at(&field, x0 + dx, y0 + dy);
+        let tolerance = 2.0 * cell;
+        // Nothing below DEPTH, and DEPTH reached; a flat endmill's floor is
+        // flat there in the middle (a ball's is scalloped between rings);
+        // just outside the walls, uncut.
+        let lowest = (0..field.nx).flat_map(|i| (0..field.ny).map(move |j| (i, j))).map(|(i, j)| field.get(i, j));
+        assert!((lowest.fold(f64::INFINITY, f64::min) + depth).abs() < 1e-6, "{call}: not cut to DEPTH");
+        if tool.starts_with("endmill") {
+            assert!((at(length / 2.0, width / 2.0) + depth).abs() < 1e-6, "{call}: {}", at(length / 2.0, width / 2.0));
+        }
+        for (dx, dy) in [(-tolerance, width / 2.0), (length + tolerance, width / 2.0), (length / 2.0, -tolerance)] {
+            assert_eq!(at(dx, dy), 0.0, "{call}: cut outside the wall at {dx}, {dy}");
+        }
+        for (dx, dy) in [(tolerance, width / 2.0), (length - tolerance, width / 2.0), (length / 2.0, width - tolerance)]
+        {
+            assert!(at(dx, dy) < -depth / 2.0, "{call}: the wall at {dx}, {dy} is not cut: {}", at(dx, dy));
+        }
+        // A corner of radius `corner`: beyond its arc uncut, inside it cut.
+        // Along the diagonal, the arc is corner (1 - 1/√2) in from the corner.
+        let arc = corner * (1.0 - std::f64::consts::FRAC_1_SQRT_2);
+        assert_eq!(at(arc - tolerance, arc - tolerance), 0.0, "{call}: the corner is not rounded to {corner}");
+        assert!(at(arc + tolerance, arc + tolerance) < 0.0, "{call}: the corner's arc is not cut");
+    }
+    // What the tool cannot do is an error at the call, not bad G-code.
+    let config = mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n");
+    for (call, words) in [
+        ("Pocket 40 30 6 3 3 6", "would leave ribs"),
+        ("Pocket 40 30 6 3 3 3 20", "more than half"),
+        ("Pocket 10 10 6 3 3 3 0 2.5", "wider than the pocket"),
+        ("Pocket 6.001 6.001 6", "too tight"),
+        ("Pocket 40 30 6 3 3 3 0 0 \"spiral\"", "ramp"),
+    ] {
+        let (_, diagnostics) = run("wizards", &config, &format!("G21 G90\nM06 T1\nG00 X0 Y0 Z0\nF100\n{call}\nM30\n"));
+        assert!(diagnostics.len() == 1 && diagnostics[0].contains(words), "{call}: {diagnostics:?}");
+    }
+    // A corner tighter than the tool is cut at the tool's radius, with a warning.
+    let (_, diagnostics) =
+        run("wizards", &config, "G21 G90\nM06 T1\nG00 X0 Y0 Z0\nF100\nPocket 40 30 6 3 3 3 1\nM30\n");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(diagnostics[0]
+        .starts_with("5:1: warning: wizard `Pocket`: corners of radius 1 are cut to the tool's radius, 3"));
 }
 
 /// `ger check --deny warnings --format json` of `program` with `config`: its status and report.
@@ -513,17 +586,37 @@ fn engrave_cuts_its_strokes_inside_the_text_box_at_its_depth() {
 }
 
 #[test]
-fn the_example_pocket_passes_the_check_with_warnings_denied() {
-    // The README's example: a 6 mm endmill, 3 mm levels; before ramps, `ger check` warned of its plunges.
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
-        .args(["check", "--deny", "warnings", "--quiet", "host/examples/pocket.ngc"])
-        .current_dir(repo("."))
-        .env("NO_COLOR", "1")
-        .output()
-        .unwrap();
-    let (out, err) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "{out}{err}");
-    assert!(!err.contains("warning") && !out.contains("warning"), "{out}{err}");
+fn every_wizards_example_passes_the_check_with_warnings_denied_and_is_pictured() {
+    // The README's example, then one for each wizard that ships (the
+    // README shows each, rendered by host/docs/wizards/render.sh).
+    let mut programs = vec![repo("host/examples/pocket.ngc")];
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let mut shipped: Vec<String> = std::fs::read_dir(repo("wizards"))
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.is_dir() && !path.ends_with("target"))
+        .map(|path| path.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    shipped.sort();
+    for name in &shipped {
+        let program = repo(&format!("host/examples/wizards/{name}.ngc"));
+        assert!(program.exists(), "the wizard {name} has no example in host/examples/wizards");
+        let picture = format!("host/docs/wizards/{name}.png");
+        assert!(repo(&picture).exists() && readme.contains(&picture), "{picture} is missing or not in the README");
+        programs.push(program);
+    }
+    for program in programs {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+            .args(["check", "--deny", "warnings", "--quiet", "--wizards"])
+            .arg(repo("wizards"))
+            .arg(&program)
+            .env("NO_COLOR", "1")
+            .output()
+            .unwrap();
+        let (out, err) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+        assert!(output.status.success(), "{}: {out}{err}", program.display());
+        assert!(!err.contains("warning") && !out.contains("warning"), "{}: {out}{err}", program.display());
+    }
 }
 
 #[test]
@@ -974,6 +1067,55 @@ fn a_wizards_random_numbers_depend_only_on_the_call() {
     // A second run (a new runtime) gives the same numbers.
     let (second, _) = run("tests/wizards/guests", &mm(""), program);
     assert_eq!(targets(second), first);
+}
+
+#[test]
+fn a_wizard_never_sees_what_an_earlier_call_left() {
+    // `Remember N` moves to X = N plus the marks of earlier calls it finds in
+    // its statics and heap: each call must find none.
+    let calls: String = (1..=5).map(|n| format!("Remember {n}\n")).collect();
+    let (lines, diagnostics) = run("tests/wizards/guests", &mm(""), &format!("G21 G90 G01 F100\n{calls}M30\n"));
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let xs: Vec<f64> = moves(&lines).iter().map(|(_, _, to)| to[0]).collect();
+    assert_eq!(xs, [1.0, 2.0, 3.0, 4.0, 5.0], "a call found an earlier call's marks: {lines:?}");
+}
+
+#[test]
+fn a_wizard_built_against_the_first_contract_runs_unchanged() {
+    let tools = "[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n\
+                 [[tools]]\nnumber = 2\nkind = \"endmill\"\ndiameter = 3\nflute_length = 12\n";
+    let (lines, diagnostics) = run("tests/wizards/guests", &mm(tools), "G21 G90 G01 F100\nLegacy 2\nM30\n");
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let ends: Vec<[f64; 3]> = moves(&lines).iter().map(|(_, _, to)| *to).collect();
+    assert_eq!(ends, [[3.0, 12.0, 0.0]], "{lines:?}");
+    // It is a component of ger:wizard@0.1.0, asking for that version's host.
+    let wasm = std::fs::read(repo("tests/wizards/guests/legacy.wasm")).unwrap();
+    let has = |text: &str| wasm.windows(text.len()).any(|w| w == text.as_bytes());
+    assert!(has("ger:wizard/host@0.1.0") && !has("ger:wizard/host@0.2.0"));
+}
+
+#[test]
+fn a_wizard_is_told_the_stock_the_tools_and_the_unit_and_may_warn() {
+    let config = "units = \"mm\"\n[stock]\nsize = [100, 60, 20]\n\
+                  [[tools]]\nnumber = 7\nkind = \"endmill\"\ndiameter = 6\n\
+                  [[tools]]\nnumber = 3\nkind = \"drill\"\ndiameter = 3\n";
+    let config = Config::from_toml(config).unwrap();
+    // An inch program on a millimetre machine: Survey's numbers are in inches,
+    // and ger writes them in millimetres.
+    let (lines, diagnostics) = run("tests/wizards/guests", &config, "G20 G90 G01 F10\nSurvey\nM30\n");
+    let ends: Vec<[f64; 3]> = moves(&lines).iter().map(|(_, _, to)| *to).collect();
+    // The stock's far corner (program zero on its top lower-left corner),
+    // then 2 tools, the largest T7, and 1 for a millimetre machine (in inches).
+    assert_eq!(ends, [[100.0, 60.0, -20.0], [50.8, 177.8, 25.4]], "{lines:?}");
+    let shown: Vec<&str> = diagnostics.iter().map(|d| d.lines().next().unwrap()).collect();
+    assert_eq!(shown, ["2:1: warning: wizard `Survey`: warning 1", "2:1: warning: wizard `Survey`: warning 2"]);
+    // Past 16 a call, warnings are counted.
+    let (_, diagnostics) = run("tests/wizards/guests", &config, "G20 G90 G01 F10\nSurvey 20\nM30\n");
+    assert_eq!(diagnostics.len(), 17, "{diagnostics:?}");
+    assert!(diagnostics[16].starts_with("2:1: warning: wizard `Survey` gave 4 more warnings, not shown"));
+    // With no stock size, there is none to tell.
+    let (_, diagnostics) = run("tests/wizards/guests", &mm(""), "Survey\nM30\n");
+    assert!(diagnostics[0].contains("wizard `Survey`: no stock"), "{diagnostics:?}");
 }
 
 #[test]

@@ -103,6 +103,14 @@ impl Args {
         }
     }
 
+    /// A number of zero or more, if given: a radius or an allowance.
+    pub fn optional_non_negative(&self, i: usize) -> Result<Option<f64>, String> {
+        match self.optional_number(i)? {
+            Some(n) if n < 0.0 => Err(format!("{} must not be negative, not {n}", self.what(i))),
+            other => Ok(other),
+        }
+    }
+
     /// A number greater than zero.
     pub fn positive(&self, i: usize) -> Result<f64, String> {
         self.number(i)?;

@@ -52,6 +52,42 @@ impl Contour {
         self.start
     }
 
+    /// A rounded rectangle from its corners' centres (`low` the lower-left,
+    /// `high` the upper-right) and their radius, starting on its bottom edge
+    /// (at its left end going counter-clockwise, its right end clockwise):
+    /// a circle when the centres meet, a slot when they share X or Y.
+    pub fn rounded_rectangle(low: [f64; 2], high: [f64; 2], radius: f64, clockwise: bool) -> Contour {
+        let ([x0, y0], [x1, y1], r) = (low, high, radius);
+        if low == high {
+            return Contour::circle(low, [x0, y0 - r], clockwise);
+        }
+        // Corner centres in the loop's order from the start, each with where its arc starts and ends.
+        let corners: [([f64; 2], [f64; 2], [f64; 2]); 4] = if clockwise {
+            [
+                ([x0, y0], [x0, y0 - r], [x0 - r, y0]),
+                ([x0, y1], [x0 - r, y1], [x0, y1 + r]),
+                ([x1, y1], [x1, y1 + r], [x1 + r, y1]),
+                ([x1, y0], [x1 + r, y0], [x1, y0 - r]),
+            ]
+        } else {
+            [
+                ([x1, y0], [x1, y0 - r], [x1 + r, y0]),
+                ([x1, y1], [x1 + r, y1], [x1, y1 + r]),
+                ([x0, y1], [x0, y1 + r], [x0 - r, y1]),
+                ([x0, y0], [x0 - r, y0], [x0, y0 - r]),
+            ]
+        };
+        let start = if clockwise { [x1, y0 - r] } else { [x0, y0 - r] };
+        let mut path = Contour::new(start);
+        for (centre, arc_start, arc_end) in corners {
+            path = path.line_to(arc_start);
+            if r > 0.0 {
+                path = path.arc_to(arc_end, centre, clockwise);
+            }
+        }
+        path
+    }
+
     /// Each piece with where it starts.
     fn spans(&self) -> impl Iterator<Item = ([f64; 2], Piece)> + '_ {
         let starts = std::iter::once(self.start).chain(self.pieces.iter().map(|piece| piece.end()));

@@ -45,7 +45,7 @@ mod state;
 
 pub use args::{Arg, Args};
 pub use block::{call, comment, g, g0, g1, g2, g3, m, text, Block, Call, Statement};
-pub use state::{Distance, Plane, Spindle, State, Tool, ToolKind, Units};
+pub use state::{Distance, Plane, Spindle, State, Stock, Tool, ToolKind, Units};
 
 /// The generated bindings; used by [`export_wizard!`], not by wizards.
 #[doc(hidden)]
@@ -114,6 +114,29 @@ pub fn log(message: &str) {
 /// Looks a tool up in the machine's tool table, in the program's units.
 pub fn tool(number: u32) -> Option<Tool> {
     host::find_tool(number).map(Tool::from)
+}
+
+/// The machine's whole tool table, in the program's units, by number.
+pub fn tools() -> Vec<Tool> {
+    host::tools().into_iter().map(Tool::from).collect()
+}
+
+/// The stock block at the call, or `None` when ger finds it only from what
+/// the program cuts.
+pub fn stock() -> Option<Stock> {
+    host::stock().map(Stock::from)
+}
+
+/// The machine's unit, whatever G20/G21 the program is in.
+pub fn machine_units() -> Units {
+    host::machine_units().into()
+}
+
+/// A warning at the call (`ger check --deny warnings` fails on it); the
+/// call's statements still run. For what is allowed but unwise: a feed
+/// the tool may not take, a depth past its flutes.
+pub fn warn(message: &str) {
+    host::warn(message);
 }
 
 /// Exports `$wizard` (a type implementing [`Wizard`]) as the component's

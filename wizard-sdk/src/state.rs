@@ -114,13 +114,33 @@ impl From<wit::Tool> for Tool {
     }
 }
 
+impl From<wit::Units> for Units {
+    fn from(units: wit::Units) -> Units {
+        match units {
+            wit::Units::Mm => Units::Mm,
+            wit::Units::Inch => Units::Inch,
+        }
+    }
+}
+
+/// The stock block, a box along the program's axes in its coordinates and
+/// units at the call.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stock {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl From<wit::Bounds> for Stock {
+    fn from(b: wit::Bounds) -> Stock {
+        Stock { min: [b.min_x, b.min_y, b.min_z], max: [b.max_x, b.max_y, b.max_z] }
+    }
+}
+
 impl From<wit::MachineState> for State {
     fn from(s: wit::MachineState) -> State {
         State {
-            units: match s.units {
-                wit::Units::Mm => Units::Mm,
-                wit::Units::Inch => Units::Inch,
-            },
+            units: s.units.into(),
             position: [s.x, s.y, s.z],
             distance: match s.distance {
                 wit::Distance::Absolute => Distance::Absolute,

@@ -5,7 +5,7 @@
 // functions (see wit/wizard.wit): `describe` and `expand`. Variants are
 // `{ tag, val }` objects, records are objects with camelCase fields, options
 // are a value or `undefined`, and a thrown string is the call's error.
-import { log } from "ger:wizard/host@0.1.0";
+import { log } from "ger:wizard/host@0.2.0";
 
 const USAGE = "Circle RADIUS DEPTH";
 const PARAMS = ["RADIUS", "DEPTH"];

@@ -9,12 +9,15 @@ use serde::Serialize;
 
 use anyhow::{Context, Result};
 
-use super::render::{memory_limit, refused, resolution, Bar};
+use super::render::{memory_limit, refused, resolution, usage_error, Bar};
 use super::{styled, CommonArgs};
 use ger_check::{Bounds, Finding, ProfileUsed, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
-use ger_engine::{Purpose, Report, Resolution};
+use std::path::PathBuf;
+
+use ger_engine::compare::{Comparison, Design};
+use ger_engine::{carve, stock_of, Job, Purpose, Report, Resolution, Source};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {
@@ -34,6 +37,20 @@ pub(crate) enum Deny {
 pub(crate) struct CheckArgs {
     #[command(flatten)]
     common: CommonArgs,
+    /// More programs, cut after FILE on the same stock in this order (a job
+    /// posted one file an operation): each is judged against what the ones
+    /// before it left.
+    #[arg(value_name = "MORE")]
+    more: Vec<PathBuf>,
+    /// Start from this mesh (a closed STL, in machine coordinates and units:
+    /// a casting, or the part an earlier job left) instead of a block.
+    #[arg(long, value_name = "STL")]
+    stock_from: Option<PathBuf>,
+    /// Also set the part beside its design (a closed STL), as `ger compare` does.
+    #[arg(long, value_name = "STL")]
+    design: Option<PathBuf>,
+    #[command(flatten)]
+    placing: super::compare::DesignArgs,
     /// How to report.
     #[arg(long, value_enum, default_value = "text")]
     format: Output,
@@ -41,7 +58,8 @@ pub(crate) struct CheckArgs {
     #[arg(long, value_enum, value_name = "WHAT")]
     deny: Option<Deny>,
     /// Do not make this check (repeatable): rapid-into-stock, spindle-off,
-    /// flute-length, plunge, below-stock, travel, arc-radius, default-tool.
+    /// flute-length, plunge, below-stock, travel, arc-radius, default-tool,
+    /// collision, clearance, fixture.
     #[arg(long, value_name = "CHECK", value_parser = rule)]
     allow: Vec<Rule>,
     /// The side of a simulation cell, in machine units [default: the
@@ -64,19 +82,40 @@ fn rule(text: &str) -> Result<Rule> {
 }
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
+    if !args.more.is_empty() {
+        if args.design.is_some() {
+            return usage_error("--design compares one program's part: give it one program");
+        }
+        return job(args);
+    }
     let mut program = args.common.program(Purpose::Cut)?;
     let source = program.source().clone();
     let mut bar = Bar::new(args.quiet || args.format == Output::Json);
 
     // Without a size, the stock is where the program cuts: a pass to find it
     // (its diagnostics come again from the check's own pass).
-    let (stock, _) = program.stock(&mut bar);
+    let mesh = start_mesh(args)?;
+    let stock = match &mesh {
+        Some(mesh) => stock_of(mesh),
+        None => program.stock(&mut bar).0,
+    };
     let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
-    let sim = match program.simulation(stock, asked) {
+    let mut sim = match program.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),
     };
-    let (mut verdict, _) = program.check(sim, &args.allow, &mut bar);
+    if let Some(mesh) = &mesh {
+        carve(&mut sim, mesh);
+    }
+    let design = match &args.design {
+        Some(path) => match args.placing.load(path, program.config(), &stock)? {
+            Some(design) => Some(design),
+            None => return Ok(2),
+        },
+        None => None,
+    };
+    let (mut verdict, part) = program.check(sim, &args.allow, &mut bar);
+    let comparison = design.map(|(design, tolerance)| program.judge(&part, &design, tolerance, &mut bar).comparison);
     let config = program.config();
     if args.deny == Some(Deny::Warnings) {
         for finding in &mut verdict.findings {
@@ -94,14 +133,105 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
                 eprint!("{}", report.render(&source.name(), source.open(), styled()));
             }
             print!("{}", summary_text(&source.name(), &verdict, config));
+            if let Some(c) = &comparison {
+                print!("{}", super::compare::deviations(c, config.units.abbreviation(), config.units.decimals()));
+            }
         }
         Output::Json => {
-            let json = serde_json::to_string_pretty(&JsonReport::new(&source.name(), &verdict))
+            let mut report = JsonReport::new(&source.name(), &verdict);
+            report.design = comparison.as_ref();
+            let json = serde_json::to_string_pretty(&report).context("cannot write the report")?;
+            println!("{json}");
+        }
+    }
+    let gouged = comparison.is_some_and(|c| c.gouge.area > 0.0);
+    Ok(i32::from(errors > 0 || gouged))
+}
+
+/// `ger check A B C`: the programs in turn on one stock, each reported as
+/// alone (its diagnostics, its summary), then a line for the job.
+fn job(args: &CheckArgs) -> Result<i32> {
+    let first = args.common.program(Purpose::Cut)?;
+    let mut rest = Vec::new();
+    for path in &args.more {
+        rest.push(args.common.program_of(Source::open_path(path)?, Purpose::Cut)?);
+    }
+    let mut job = Job::new(first, rest);
+    let mut bar = Bar::new(args.quiet || args.format == Output::Json);
+    let mesh = start_mesh(args)?;
+    let stock = match &mesh {
+        Some(mesh) => stock_of(mesh),
+        None => job.stock(&mut bar).0,
+    };
+    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let mut sim = match job.simulation(stock, asked) {
+        Ok(sim) => sim,
+        Err(err) => return refused(err, &args.common, job.programs()[0].source()),
+    };
+    if let Some(mesh) = &mesh {
+        carve(&mut sim, mesh);
+    }
+    let (mut verdicts, _) = job.check(sim, &args.allow, &mut bar);
+    let (mut errors, mut warnings) = (0, 0);
+    let mut reports = Vec::new();
+    for (program, verdict) in job.programs().iter().zip(&mut verdicts) {
+        if args.deny == Some(Deny::Warnings) {
+            for finding in &mut verdict.findings {
+                finding.diagnostic.severity = Severity::Error;
+            }
+        }
+        let e = verdict.findings.iter().filter(|f| f.diagnostic.is_error()).count();
+        (errors, warnings) = (errors + e, warnings + verdict.findings.len() - e);
+        let source = program.source();
+        match args.format {
+            Output::Text => {
+                let mut report = Report::default().failing_as("the check failed");
+                for finding in &verdict.findings {
+                    report.add(finding.diagnostic.clone());
+                }
+                if !verdict.findings.is_empty() {
+                    eprint!("{}", report.render(&source.name(), source.open(), styled()));
+                }
+                print!("{}", summary_text(&source.name(), verdict, program.config()));
+            }
+            Output::Json => reports.push(JsonReport::new(&source.name(), verdict)),
+        }
+    }
+    let names: Vec<String> = job.programs().iter().map(|p| p.source().name()).collect();
+    match args.format {
+        Output::Text => {
+            let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+            let verdict = match (errors, warnings) {
+                (0, 0) => "no problems found".to_string(),
+                (e, w) => format!("{}, {}", plural(e, "error"), plural(w, "warning")),
+            };
+            println!("job {}: {verdict}", names.join(", then "));
+        }
+        Output::Json => {
+            let json = serde_json::to_string_pretty(&JsonJob { version: 1, errors, warnings, programs: reports })
                 .context("cannot write the report")?;
             println!("{json}");
         }
     }
     Ok(i32::from(errors > 0))
+}
+
+/// `--stock-from`'s mesh, if given.
+fn start_mesh(args: &CheckArgs) -> Result<Option<Design>> {
+    let Some(path) = &args.stock_from else { return Ok(None) };
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).with_context(|| format!("cannot read {name}"))?;
+    let mesh = Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad stock {name}"))?;
+    Ok(Some(mesh))
+}
+
+/// `ger check A B C --format json`: each program's report, in order, and the job's counts.
+#[derive(Serialize)]
+struct JsonJob<'a> {
+    version: u32,
+    errors: usize,
+    warnings: usize,
+    programs: Vec<JsonReport<'a>>,
 }
 
 /// The summary for people: a heading line, then one line a fact.
@@ -185,6 +315,19 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
         .collect();
     let tools = if tools.is_empty() { "none".to_string() } else { tools.join("\n            ") };
     let _ = writeln!(out, "  tools     {tools}");
+    // What the collision check sees of each tool, so that nobody trusts a check they did not configure.
+    let assemblies: Vec<String> = s
+        .tools
+        .iter()
+        .filter(|t| t.kind.is_some())
+        .map(|t| match t.unchecked {
+            Some(unchecked) => format!("tool {}: {unchecked}", t.number),
+            None => format!("tool {}: shank and holder checked", t.number),
+        })
+        .collect();
+    if !assemblies.is_empty() {
+        let _ = writeln!(out, "  assembly  {}", assemblies.join("\n            "));
+    }
     let codes: Vec<String> = s.codes.iter().map(|(code, n)| format!("{code} {n}")).collect();
     let _ = writeln!(out, "  codes     {}", codes.join(", "));
     if !s.problems.is_empty() {
@@ -226,6 +369,9 @@ struct JsonReport<'a> {
     warnings: usize,
     diagnostics: Vec<JsonDiagnostic>,
     summary: &'a Summary,
+    /// `--design`'s comparison (`ger compare`'s figures).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    design: Option<&'a Comparison>,
 }
 
 #[derive(Serialize)]
@@ -262,6 +408,7 @@ impl<'a> JsonReport<'a> {
             warnings: diagnostics.len() - errors,
             diagnostics,
             summary: &verdict.summary,
+            design: None,
         }
     }
 }

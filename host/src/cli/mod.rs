@@ -2,7 +2,9 @@
 //! streams and terminals; everything else takes readers and returns values.
 
 mod check;
+mod compare;
 mod error;
+mod lsp;
 mod render;
 mod view;
 mod wizard;
@@ -45,6 +47,9 @@ enum Command {
     Parse(InputArg),
     /// Simulate the cut and write a picture (2D, 3D), a mesh (STL) or the toolpath.
     Render(Box<render::RenderArgs>),
+    /// Simulate the cut and set the part beside its design (an STL): gouges
+    /// and material left beyond a tolerance, and the lines that gouged.
+    Compare(Box<compare::CompareArgs>),
     /// Show the step/direction pulses a stepper controller would get.
     Pulses(render::PulsesArgs),
     /// Make, build and list wizards.
@@ -53,6 +58,9 @@ enum Command {
     /// Serve a page on 127.0.0.1 that shows the program, its translation, its
     /// diagnostics and the simulated part, updated live as any of them changes.
     View(Box<view::ViewArgs>),
+    /// Serve the Language Server Protocol on standard input and output, for
+    /// editors: diagnostics as you type, hover, definitions, symbols, fixes.
+    Lsp(Box<lsp::LspArgs>),
 }
 
 #[derive(Args)]
@@ -189,9 +197,11 @@ pub fn main() -> i32 {
         Command::Tokens(args) => tokens(&args.file),
         Command::Parse(args) => parse_only(&args.file),
         Command::Render(args) => render::render(&args),
+        Command::Compare(args) => compare::compare(&args),
         Command::Pulses(args) => render::pulses(&args),
         Command::Wizard(command) => wizard::main(command),
         Command::View(args) => view::main(*args),
+        Command::Lsp(args) => lsp::main(*args),
     };
     match result {
         Ok(status) => status,
@@ -202,16 +212,22 @@ pub fn main() -> i32 {
     }
 }
 
+impl From<UnitsArg> for Units {
+    fn from(units: UnitsArg) -> Units {
+        match units {
+            UnitsArg::Inch => Units::Inch,
+            UnitsArg::Mm => Units::Mm,
+        }
+    }
+}
+
 impl CommonArgs {
     /// What the command line says about the machine.
     fn settings(&self) -> Settings {
         Settings {
             config: self.config.clone(),
             lenient: self.lenient,
-            units: self.units.map(|units| match units {
-                UnitsArg::Inch => Units::Inch,
-                UnitsArg::Mm => Units::Mm,
-            }),
+            units: self.units.map(Units::from),
             target: None,
         }
     }

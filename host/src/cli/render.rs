@@ -14,11 +14,11 @@ use super::error::cannot_write;
 use super::{show, CommonArgs};
 use ger_core::config::{quoted, Bounds, Step, MAX_MEMORY_MIB};
 use ger_core::statement::Units;
-use ger_engine::{Culprit, Purpose, Refused, Resolution, Source};
+use ger_engine::{Culprit, Job, Purpose, Refused, Resolution, Source};
 use ger_output::OutputFile;
 use ger_render::{mesh::Mesh, top, view};
 use ger_sim::pulses::Pulser;
-use ger_sim::Point;
+use ger_sim::{Point, Solid};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Format {
@@ -36,6 +36,9 @@ pub(crate) enum Format {
 pub(crate) struct RenderArgs {
     #[command(flatten)]
     common: CommonArgs,
+    /// More programs, cut after FILE on the same stock in this order (a job).
+    #[arg(value_name = "MORE")]
+    more: Vec<PathBuf>,
     /// Where to write the picture or mesh (`-`: standard output, with --format).
     #[arg(short, long, value_name = "OUT")]
     output: PathBuf,
@@ -200,7 +203,11 @@ pub(super) fn refused(refused: Refused, common: &CommonArgs, source: &Source) ->
 }
 
 /// Writes `out` to `output` and commits it: nothing is replaced unless all of it was written.
-fn save(mut output: OutputFile, path: &Path, out: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+pub(super) fn save(
+    mut output: OutputFile,
+    path: &Path,
+    out: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<()> {
     out(&mut output).and_then(|()| output.commit()).with_context(|| cannot_write(path))
 }
 
@@ -254,37 +261,51 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32> {
         save(output, &args.output, |out| image.write_png(out))?;
         return Ok(0);
     }
-    // Without a size, the stock is where the program cuts: a pass to find it.
-    let (stock, report) = program.stock(&mut bar);
-    if report.errors() > 0 {
-        show(&report, &source);
+    // A job: the programs after FILE cut on where it left off.
+    let mut rest = Vec::new();
+    for path in &args.more {
+        rest.push(args.common.program_of(Source::open_path(path)?, Purpose::Cut)?);
+    }
+    let mut job = Job::new(program, rest);
+    // Without a size, the stock is where the programs cut: a pass to find it.
+    let (stock, reports) = job.stock(&mut bar);
+    if reports.iter().any(|r| r.errors() > 0) {
+        for (report, program) in reports.iter().zip(job.programs()) {
+            show(report, program.source());
+        }
         return Ok(1);
     }
     let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
-    let sim = match program.simulation(stock, asked) {
+    let sim = match job.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),
     };
-    let (field, report) = program.simulate(sim, &mut bar);
-    show(&report, &source);
-    if report.errors() > 0 {
+    let (field, reports) = job.simulate(sim, &mut bar);
+    for (report, program) in reports.iter().zip(job.programs()) {
+        show(report, program.source());
+    }
+    if reports.iter().any(|r| r.errors() > 0) {
         return Ok(1);
     }
+    let config = job.programs()[0].config().clone();
 
     match format {
         Format::Stl => save(output, &args.output, |out| Mesh::new(&field).write_stl(out))?,
         Format::TwoD => {
-            let image = top::render(&field, camera.width, camera.height, program.config().units.abbreviation());
+            let image = top::render(&field, camera.width, camera.height, config.units.abbreviation());
             save(output, &args.output, |out| image.write_png(out))?;
         }
         Format::ThreeD => {
-            let (mut image, projection) = view::render(&field, &camera);
+            let fixtures = Solid::fixtures(&config);
+            let (mut image, projection) = view::render(&field, &fixtures, &camera);
             if args.with_toolpath {
                 let mut painter = view::PathPainter::new(&mut image, projection);
-                program.toolpath(|m| {
-                    painter.add(&m.segment, m.rapid);
-                    true
-                });
+                for program in job.programs_mut() {
+                    program.toolpath(|m| {
+                        painter.add(&m.segment, m.rapid);
+                        true
+                    });
+                }
             }
             save(output, &args.output, |out| image.write_png(out))?;
         }

@@ -6,7 +6,8 @@
 //! first on the rectangle's lower edge and the last on its upper one, each
 //! running past both ends by the tool's radius and a clearance so the edges
 //! come out clean. The tool reaches each level by a ramp along the first row,
-//! so a stock larger than the rectangle is never plunged into. Afterwards the
+//! so a stock larger than the rectangle is never plunged into; between levels
+//! it rises to the top, clear of the scallops the rows' ends leave. Afterwards the
 //! tool is back at the call's position, in the call's modes.
 
 use ger_wizard_sdk::*;
@@ -56,7 +57,13 @@ impl Wizard for Face {
             vec![comment(format!("Face {length} x {width} x {depth}: {} levels of {rows} rows", levels.len()))];
         out.push(g0().xy(xa, y0).into());
         let mut above = top;
-        for &z in &levels {
+        for (level, &z) in levels.iter().enumerate() {
+            // Back at the first row's start, and down through what the level
+            // above cut there.
+            if level > 0 {
+                out.push(g0().xy(xa, y0).into());
+                out.push(g1().z(above).into());
+            }
             out.extend(entry::ramp([xa, y0], [xb, y0], above, z, entry::DEFAULT_ENTRY_ANGLE, feed)?);
             // The ramp cut the first row at this level; the others go back and forth from its end.
             for row in 1..rows {
@@ -64,12 +71,11 @@ impl Wizard for Face {
                 out.push(g1().y(y).into());
                 out.push(g1().x(if row % 2 == 0 { xa } else { xb }).into());
             }
-            // Up to the level above (cut, or the top) and back to the first row's start.
-            out.push(g0().z(above).into());
-            out.push(g0().xy(xa, y0).into());
+            // Up to the top before going back: at the level above, the
+            // rows' rounded ends left scallops along both edges.
+            out.push(g0().z(top).into());
             above = z;
         }
-        out.push(g0().z(top).into());
         out.push(g0().xy(x0, y0).into());
         Ok(state.in_absolute(out))
     }

@@ -1,19 +1,31 @@
-//! `Pocket LENGTH WIDTH DEPTH [STEPDOWN] [RAMP]`: clears a rectangular pocket.
+//! `Pocket LENGTH WIDTH DEPTH [STEPDOWN] [RAMP] [STEPOVER] [CORNER]
+//! [ALLOWANCE] ["ramp"|"helix"]`: clears a rectangular pocket.
 //!
 //! The pocket's lower-left corner is at the current XY and its top at the
-//! current Z. The tool goes down to each level (STEPDOWN apart, the last
-//! exactly at DEPTH) by a ramp along the first row, no steeper than RAMP
-//! degrees (along Y when the pocket is only the tool's length), never
-//! straight down; the level is cleared by a zigzag along X whose rows are at
-//! most 60% of the tool's diameter apart, then a finishing pass along the walls. The tool's centre
-//! stays inset from the walls by its radius, so it cuts exactly to them.
-//! Afterwards the tool is back at the call's position, in the call's modes.
+//! current Z; its corners are rounded to CORNER (default 0: as sharp as the
+//! tool leaves them). Each level (STEPDOWN apart, default the tool's
+//! diameter; the last exactly at DEPTH) is cleared from the middle out in
+//! rings that follow the walls, STEPOVER apart at most (default 60% of the
+//! diameter), all counter-clockwise, which is climb milling with M03. The
+//! tool gets down to a level by a ramp along the innermost ring, or by a
+//! helix in the middle, no steeper than RAMP degrees (default 3), never
+//! straight down. The rings stop ALLOWANCE (default 0) short of the walls,
+//! and a finishing ring then cuts the walls exactly, at every level. The
+//! tool's centre stays its radius from the walls. Afterwards the tool is
+//! back at the call's position, in the call's modes.
 
+use ger_wizard_sdk::contour::{Contour, Heights};
 use ger_wizard_sdk::*;
 
-/// Rows of the zigzag are at most this fraction of the diameter apart, so
-/// neighbouring passes overlap and leave no ridges.
-const MAX_STEPOVER: f64 = 0.6;
+/// The default distance between rings, as a fraction of the diameter.
+const DEFAULT_STEPOVER: f64 = 0.6;
+/// The widest stepover that leaves nothing between rings with sharp
+/// corners: a point between two corners is 0.586 stepovers from the nearer
+/// ring, which must be within the tool's radius.
+const MAX_STEPOVER: f64 = 0.85;
+/// The innermost ring is at most this fraction of the tool's radius from
+/// the middle, so the tool on it cuts the middle too.
+const INNERMOST: f64 = 0.9;
 
 pub struct Pocket;
 
@@ -22,13 +34,17 @@ impl Wizard for Pocket {
         Description::new(
             "Pocket",
             "clears a rectangular pocket from the current position (its lower-left corner, at its top)",
-            "Pocket LENGTH WIDTH DEPTH [STEPDOWN] [RAMP]",
+            "Pocket LENGTH WIDTH DEPTH [STEPDOWN] [RAMP] [STEPOVER] [CORNER] [ALLOWANCE] [\"ramp\"|\"helix\"]",
         )
         .param("LENGTH", "size along X")
         .param("WIDTH", "size along Y")
         .param("DEPTH", "depth below the current Z")
         .optional("STEPDOWN", "depth of cut per level (default: the tool's diameter)")
         .optional("RAMP", "steepest entry into each level, in degrees (default 3)")
+        .optional("STEPOVER", "greatest distance between rings (default: 60% of the tool's diameter)")
+        .optional("CORNER", "radius of the pocket's corners (default 0)")
+        .optional("ALLOWANCE", "what the rings leave on the walls for the finishing ring (default 0)")
+        .optional("ENTRY", "\"ramp\" along the innermost ring (the default) or \"helix\" in the middle")
     }
 
     fn expand(args: &Args, state: &State) -> Result<Vec<Statement>, String> {
@@ -36,70 +52,144 @@ impl Wizard for Pocket {
         let width = args.positive(1)?;
         let depth = args.positive(2)?;
         let tool = state.require_cutter("a pocket needs an end mill")?;
-        let stepdown = args.optional_positive(3)?.unwrap_or(tool.diameter);
-        let ramp = args.optional_positive(4)?.unwrap_or(entry::DEFAULT_ENTRY_ANGLE);
         let d = tool.diameter;
-        if d > length || d > width {
+        let stepdown = args.optional_positive(3)?.unwrap_or(d);
+        let ramp = args.optional_positive(4)?.unwrap_or(entry::DEFAULT_ENTRY_ANGLE);
+        let stepover = args.optional_positive(5)?.unwrap_or(DEFAULT_STEPOVER * d);
+        let corner = args.optional_non_negative(6)?.unwrap_or(0.0);
+        let allowance = args.optional_non_negative(7)?.unwrap_or(0.0);
+        let helix = args.choice(8, &["ramp", "helix"])? == 1;
+        if stepover > MAX_STEPOVER * d {
             return Err(format!(
-                "the tool (T{}, diameter {d}) is wider than the pocket ({length} x {width})",
+                "STEPOVER {stepover} would leave ribs between the rings: at most {} with this tool (T{}, diameter {d})",
+                MAX_STEPOVER * d,
                 tool.number
             ));
         }
-        if d == length && d == width {
+        if allowance > stepover {
             return Err(format!(
-                "the pocket is the tool's size (T{}, diameter {d}): there is no room to ramp down; drill it",
+                "ALLOWANCE {allowance} is more than the stepover ({stepover}): the finishing ring would leave a rib"
+            ));
+        }
+        if 2.0 * corner > length.min(width) {
+            return Err(format!("CORNER {corner} is more than half the pocket's narrower side"));
+        }
+        if d + 2.0 * allowance > length.min(width) {
+            let allowing = if allowance > 0.0 { format!(" with {allowance} allowance a side") } else { String::new() };
+            return Err(format!(
+                "the tool (T{}, diameter {d}) is wider than the pocket ({length} x {width}){allowing}",
                 tool.number
             ));
+        }
+        if corner > 0.0 && corner < d / 2.0 {
+            warn(&format!("corners of radius {corner} are cut to the tool's radius, {} (T{})", d / 2.0, tool.number));
         }
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling Pocket")?;
-        let cut = Cut { diameter: d, stepdown, ramp, feed };
+        let cut = Cut { diameter: d, stepdown, ramp, stepover, corner, allowance, helix, feed };
         plan(state.position, [length, width, depth], &cut).map(|moves| state.in_absolute(moves))
     }
 }
 
-/// How the pocket is cut: the tool's diameter, the depth of a level, the
-/// steepest entry in degrees, the feed.
+/// The most laps a ramp or turns a helix may take to reach a level.
+const MAX_LAPS: f64 = 100.0;
+
+fn too_tight(entry: &str, cut: &Cut) -> String {
+    format!(
+        "the pocket is too tight to {entry} down into at {}° in under {MAX_LAPS} turns with a tool of diameter {}: \
+         use a smaller tool, a steeper entry or a drilled start",
+        cut.ramp, cut.diameter
+    )
+}
+
+/// How the pocket is cut; lengths in program units, the ramp in degrees.
 pub struct Cut {
     pub diameter: f64,
     pub stepdown: f64,
     pub ramp: f64,
+    pub stepover: f64,
+    pub corner: f64,
+    pub allowance: f64,
+    /// A helix in the middle instead of a ramp along the innermost ring.
+    pub helix: bool,
     pub feed: f64,
 }
 
-/// The tool path; lengths in program units, `corner` the lower-left top corner.
+/// The tool's path round the pocket at `inset` from its walls: a rounded
+/// rectangle, counter-clockwise from the left end of its bottom side.
+fn ring(low: [f64; 2], high: [f64; 2], corner: f64, inset: f64) -> Contour {
+    let radius = (corner - inset).max(0.0);
+    let centres = |corner: [f64; 2], towards: f64| corner.map(|c| c + towards * (inset + radius));
+    Contour::rounded_rectangle(centres(low, 1.0), centres(high, -1.0), radius, false)
+}
+
+/// The tool path; `corner` the pocket's lower-left top corner.
 pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement>, String> {
     let [x0, y0, top] = corner;
     let [length, width, depth] = size;
-    let Cut { diameter, stepdown, ramp, feed } = *cut;
-    let r = diameter / 2.0;
-    let (xa, xb, ya, yb) = (x0 + r, x0 + length - r, y0 + r, y0 + width - r);
-    let levels = entry::levels(top, depth, stepdown);
-    let rows = ((yb - ya) / (MAX_STEPOVER * diameter)).ceil() as u32 + 1;
+    let (low, high) = ([x0, y0], [x0 + length, y0 + width]);
+    let r = cut.diameter / 2.0;
+    // Insets from the walls: the finishing ring's, the outermost and the
+    // innermost rough ones (the middle is `half` from the nearer walls).
+    let half = length.min(width) / 2.0;
+    let (finish, outermost) = (r, r + cut.allowance);
+    let innermost = (half - INNERMOST * r).max(outermost).min(half - 1e-6);
+    let spacing = innermost - outermost;
+    let steps = (spacing / cut.stepover).ceil() as u32;
+    let mut insets: Vec<f64> = (0..=steps)
+        .map(|k| if steps == 0 { innermost } else { innermost - spacing * f64::from(k) / f64::from(steps) })
+        .collect();
+    if cut.allowance > 0.0 {
+        insets.push(finish);
+    }
+    let rings: Vec<Contour> = insets.iter().map(|&inset| ring(low, high, cut.corner, inset)).collect();
+    let middle = [x0 + length / 2.0, y0 + width / 2.0];
+    let helix_radius = half - innermost;
+    let helix_start = [middle[0] + helix_radius.min(r), middle[1]];
 
+    let levels = entry::levels(top, depth, cut.stepdown);
     let mut out = vec![comment(format!(
-        "Pocket {length} x {width} x {depth}: {} levels of {rows} rows, tool diameter {diameter}",
-        levels.len()
+        "Pocket {length} x {width} x {depth}: {} levels of {} rings, tool diameter {}",
+        levels.len(),
+        rings.len(),
+        cut.diameter
     ))];
-    out.push(g0().xy(xa, ya).into());
-    // Along the first row, or up the first column of a pocket the tool's length.
-    let ramp_end = if xb > xa { [xb, ya] } else { [xa, yb] };
+    let first = rings[0].start();
+    let entry_point = if cut.helix { helix_start } else { first };
+    out.push(g0().xy(entry_point[0], entry_point[1]).into());
+    out.push(g1().f(cut.feed).into());
     let mut above = top;
-    for &z in &levels {
-        out.extend(entry::ramp([xa, ya], ramp_end, above, z, ramp, feed)?);
-        above = z;
-        for row in 0..rows {
-            let y = if rows == 1 { ya } else { ya + (yb - ya) * f64::from(row) / f64::from(rows - 1) };
-            if row > 0 {
-                out.push(g1().y(y).into());
-            }
-            out.push(g1().x(if row % 2 == 0 { xb } else { xa }).into());
+    for (level, &z) in levels.iter().enumerate() {
+        // After a level, from the last ring's start across what it cleared.
+        if level > 0 {
+            out.push(g1().xy(entry_point[0], entry_point[1]).into());
         }
-        // Finishing pass along the walls, from the start corner.
-        out.push(g1().xy(xa, ya).into());
-        out.push(g1().x(xb).into());
-        out.push(g1().y(yb).into());
-        out.push(g1().x(xa).into());
-        out.push(g1().y(ya).into());
+        if cut.helix {
+            let turn = std::f64::consts::TAU * (helix_start[0] - middle[0]);
+            if above - z > MAX_LAPS * turn * cut.ramp.to_radians().tan() {
+                return Err(too_tight("helix", cut));
+            }
+            out.extend(entry::helix(middle, helix_start, above, z, cut.ramp, false, cut.feed)?);
+            out.push(g1().xy(first[0], first[1]).into());
+        } else {
+            let lap = rings[0].length();
+            let descent = Heights::descent(0.0, above, z, cut.ramp)?;
+            if descent.ends_at() > MAX_LAPS * lap {
+                return Err(too_tight("ramp", cut));
+            }
+            let down = (descent.ends_at() / lap).ceil().max(1.0) * lap;
+            out.extend(rings[0].follow(0.0, down, &descent)?);
+        }
+        // Every ring a whole lap at the level, each reached straight from the
+        // last one's start, through what that one cleared.
+        for (k, ring) in rings.iter().enumerate() {
+            // The entry leaves the tool on the innermost ring's start.
+            if k > 0 {
+                let [x, y] = ring.start();
+                out.push(g1().xy(x, y).into());
+            }
+            out.extend(ring.follow(0.0, ring.length(), &Heights::level(z))?);
+        }
+        above = z;
     }
     out.push(g0().z(top).into());
     out.push(g0().xy(x0, y0).into());

@@ -25,40 +25,6 @@ struct Profile;
 /// More tabs than this round one path would be a part held by its tabs alone.
 const MAX_TABS: u32 = 100;
 
-/// The tool centre's path: a rounded rectangle from its corner centres and
-/// radius, starting on the bottom edge, clockwise or not.
-fn path(low: [f64; 2], high: [f64; 2], radius: f64, clockwise: bool) -> contour::Contour {
-    let ([x0, y0], [x1, y1], r) = (low, high, radius);
-    if low == high {
-        return contour::Contour::circle(low, [x0, y0 - r], clockwise);
-    }
-    // Corner centres in the loop's order from the start, each with where its arc starts and ends.
-    let corners: [([f64; 2], [f64; 2], [f64; 2]); 4] = if clockwise {
-        [
-            ([x0, y0], [x0, y0 - r], [x0 - r, y0]),
-            ([x0, y1], [x0 - r, y1], [x0, y1 + r]),
-            ([x1, y1], [x1, y1 + r], [x1 + r, y1]),
-            ([x1, y0], [x1 + r, y0], [x1, y0 - r]),
-        ]
-    } else {
-        [
-            ([x1, y0], [x1, y0 - r], [x1 + r, y0]),
-            ([x1, y1], [x1 + r, y1], [x1, y1 + r]),
-            ([x0, y1], [x0, y1 + r], [x0 - r, y1]),
-            ([x0, y0], [x0 - r, y0], [x0, y0 - r]),
-        ]
-    };
-    let start = if clockwise { [x1, y0 - r] } else { [x0, y0 - r] };
-    let mut path = contour::Contour::new(start);
-    for (centre, arc_start, arc_end) in corners {
-        path = path.line_to(arc_start);
-        if r > 0.0 {
-            path = path.arc_to(arc_end, centre, clockwise);
-        }
-    }
-    path
-}
-
 impl Wizard for Profile {
     fn describe() -> Description {
         Description::new(
@@ -114,7 +80,12 @@ impl Wizard for Profile {
             return Err(format!("TAB_HEIGHT (argument 9) must be less than DEPTH ({depth}), not {tab_height}"));
         }
         let [x0, y0, top] = state.position;
-        let path = path([x0 + inset, y0 + inset], [x0 + length - inset, y0 + width - inset], radius, outside);
+        let path = contour::Contour::rounded_rectangle(
+            [x0 + inset, y0 + inset],
+            [x0 + length - inset, y0 + width - inset],
+            radius,
+            outside,
+        );
         let feed = state.feed.ok_or("no feed rate is set: give an F before calling Profile")?;
         let lap = path.length();
         let tab_top = top - depth + tab_height;

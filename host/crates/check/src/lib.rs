@@ -21,7 +21,7 @@ use ger_core::config::{Config, ToolKind};
 use ger_core::diag::{Diagnostic, Origin, Span};
 use ger_core::statement::{Kind, Machine, Statement};
 use ger_core::tools::ToolSource;
-use ger_sim::{Contact, HeightField, Point, Segment, Simulation, Tracker};
+use ger_sim::{Contact, Guard, HeightField, Part, PartKind, Point, Segment, Simulation, Solid, Tracker};
 pub use summary::{Bounds, Summary, ToolUse};
 use timing::Timing;
 pub use timing::{outermost_line, CallTime, Planned, ProfileUsed, ToolTime};
@@ -62,8 +62,49 @@ struct Pending {
     plunge: Option<f64>,
     /// The tool's number and flute length, if the table gives it.
     flutes: Option<(u32, f64)>,
+    /// The tool's number, and what each of the guards it was cut with is (see [`Guards`]).
+    tool: u32,
+    parts: Arc<[PartKind]>,
     /// The rules this move has already been reported for (a move may report twice).
-    reported: u8,
+    reported: u16,
+}
+
+/// What the simulation carries along each move of a tool to see that only
+/// its cutting edge meets the stock: each part above the flutes, then each
+/// grown by the clearance (which only warns).
+struct Guards {
+    tool: u32,
+    guards: Vec<Guard>,
+    /// What guard `n` is.
+    parts: Arc<[PartKind]>,
+    /// The whole tool for the fixtures: the cutting edge, then each part above it.
+    assembly: Vec<Guard>,
+    /// What each of `assembly` is: `None` for the cutting edge.
+    assembly_parts: Vec<Option<PartKind>>,
+}
+
+impl Guards {
+    fn new(tool: &ger_core::config::Tool, clearance: f64, allowed: &[Rule]) -> Guards {
+        let parts = if allowed.contains(&Rule::Collision) { Vec::new() } else { Part::of(tool) };
+        let mut guards: Vec<Guard> =
+            parts.iter().map(|p| Guard { cutter: p.cutter, base: p.base, near: false }).collect();
+        let mut kinds: Vec<PartKind> = parts.iter().map(|p| p.kind).collect();
+        if clearance > 0.0 && !allowed.contains(&Rule::Clearance) {
+            for part in Part::of(tool) {
+                let grown = part.grown(clearance);
+                guards.push(Guard { cutter: grown.cutter, base: grown.base, near: true });
+                kinds.push(part.kind);
+            }
+        }
+        let cutter = ger_sim::Cutter::new(tool);
+        let mut assembly = vec![Guard { cutter, base: 0.0, near: false }];
+        let mut assembly_parts = vec![None];
+        for part in Part::of(tool) {
+            assembly.push(Guard { cutter: part.cutter, base: part.base, near: false });
+            assembly_parts.push(Some(part.kind));
+        }
+        Guards { tool: tool.number, guards, parts: kinds.into(), assembly, assembly_parts }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,6 +133,10 @@ pub struct Checker<'c> {
     defaulted: bool,
     /// Moves seen so far: the tag of the next one.
     moves: u32,
+    /// The loaded tool's guards.
+    guards: Option<Guards>,
+    /// `[[fixtures]]`, in machine coordinates, with their names.
+    fixtures: Vec<(Solid, &'c str)>,
     pending: VecDeque<Pending>,
     findings: Vec<Finding>,
     summary: Summary,
@@ -117,6 +162,8 @@ impl<'c> Checker<'c> {
             feed: None,
             defaulted: false,
             moves: 0,
+            guards: None,
+            fixtures: config.fixtures.iter().map(|f| (Solid::of(f, config), f.name.as_str())).collect(),
             pending: VecDeque::new(),
             findings: Vec::new(),
             summary: Summary::new(config),
@@ -203,7 +250,31 @@ impl<'c> Checker<'c> {
             }
         }
         let (Some(cutter), Some(tool)) = (self.tracker.cutter(), tool) else { return };
-        if !self.sim.cut_tagged(&m.segment, &cutter, tag) {
+        if self.guards.as_ref().is_none_or(|g| g.tool != tool.number) {
+            self.guards = Some(Guards::new(tool, self.config.clearance(), &self.allowed));
+        }
+        let Some(guards) = &self.guards else { return };
+        let parts = guards.parts.clone();
+        if !self.allowed.contains(&Rule::Fixture) {
+            let hits: Vec<String> = self
+                .fixtures
+                .iter()
+                .filter_map(|(solid, name)| {
+                    let hit = self.sim.intrusion(solid, &m.segment, &guards.assembly)?;
+                    let part = guards.assembly_parts[hit.part].map_or("cutting edge".to_string(), self::name);
+                    Some(format!("its {part} goes {} into fixture \"{name}\"", self.length(hit.depth)))
+                })
+                .collect();
+            if !hits.is_empty() {
+                let at = if m.rapid { " in a rapid move (G00)" } else { "" };
+                let diagnostic =
+                    Diagnostic::error(statement.span, format!("tool {}{at}: {}", tool.number, hits.join("; ")))
+                        .with_help("the fixtures are [[fixtures]] in ger.toml: move the tool round them, or above");
+                self.report(Rule::Fixture, tag, diagnostic.with_origin(statement.origin.clone()));
+            }
+        }
+        let Some(guards) = &self.guards else { return };
+        if !self.sim.inspect(&m.segment, &cutter, &guards.guards, tag) {
             return;
         }
         let (from, to) = (m.segment.from(), m.segment.to());
@@ -219,6 +290,8 @@ impl<'c> Checker<'c> {
             stops: self.stops,
             plunge: (straight_down && !m.rapid && tool.kind == ToolKind::Endmill).then_some(tool.diameter),
             flutes: tool.flute_length.map(|length| (tool.number, length)),
+            tool: tool.number,
+            parts,
             reported: 0,
         });
         self.collect();
@@ -341,8 +414,37 @@ impl<'c> Checker<'c> {
                 .with_help("check the depth, and [stock] size and origin in ger.toml"),
             ));
         }
+        if let Some((into, n)) = contact.clash.filter(|(into, _)| f64::from(*into) > self.tolerance) {
+            let part = name(p.parts[usize::from(n)]);
+            let at = if p.rapid { " in a rapid move (G00)" } else { "" };
+            found.push((
+                Rule::Collision,
+                Diagnostic::error(
+                    p.span,
+                    format!("tool {}'s {part} goes {} into the stock{at}", p.tool, self.length(f64::from(into))),
+                )
+                .with_help(collision_help(p.parts[usize::from(n)])),
+            ));
+        } else if let Some((_, n)) = contact.near.filter(|(into, _)| f64::from(*into) > self.tolerance) {
+            let part = name(p.parts[usize::from(n)]);
+            found.push((
+                Rule::Clearance,
+                Diagnostic::warning(
+                    p.span,
+                    format!(
+                        "tool {}'s {part} passes within {} of the stock",
+                        p.tool,
+                        self.length(self.config.clearance())
+                    ),
+                )
+                .with_help(format!(
+                    "{} ([check] clearance says how near is too near)",
+                    collision_help(p.parts[usize::from(n)])
+                )),
+            ));
+        }
         for (rule, diagnostic) in found {
-            let bit = 1 << rule as u8;
+            let bit = 1 << rule as u16;
             if p.reported & bit == 0 {
                 p.reported |= bit;
                 self.report(rule, p.tag, diagnostic.with_origin(p.origin.clone()));
@@ -404,6 +506,28 @@ impl<'c> Checker<'c> {
         let mut text = String::new();
         ger_core::emit::push_number(&mut text, value, self.config.units.decimals());
         text + " " + self.config.units.abbreviation()
+    }
+}
+
+/// A part as the messages name it.
+fn name(part: PartKind) -> String {
+    match part {
+        PartKind::Shank => "shank".to_string(),
+        PartKind::Holder(0) => "holder".to_string(),
+        PartKind::Holder(n) => format!("holder (piece {})", n + 1),
+    }
+}
+
+fn collision_help(part: PartKind) -> &'static str {
+    match part {
+        PartKind::Shank => {
+            "the material above the flutes meets the shank: a tool with longer flutes, or leave the shank room \
+             (the shank is [[tools]] flute_length and shank_diameter in ger.toml)"
+        }
+        PartKind::Holder(_) => {
+            "the holder reaches the material: a longer stick-out, or keep the holder clear of it \
+             (the holder is [[tools]] stick_out and holder in ger.toml)"
+        }
     }
 }
 

@@ -44,11 +44,35 @@ pub struct ToolUse {
     pub tip_angle: Option<f64>,
     /// Where the table's entry came from (`None` when not in it, or not known).
     pub source: Option<ToolSource>,
+    pub flute_length: Option<f64>,
+    /// The shank above the flutes: the cutting diameter unless the table says.
+    pub shank_diameter: Option<f64>,
+    /// From the tip to the holder's face.
+    pub stick_out: Option<f64>,
+    /// The holder's pieces from its face up, each `[bottom, top, length]`
+    /// (diameters equal for a cylinder).
+    pub holder: Vec<[f64; 3]>,
+    /// What the collision check does not see for want of the table's
+    /// word, when it does not see it all.
+    pub unchecked: Option<&'static str>,
 }
 
 impl ToolUse {
     fn new(number: u32) -> ToolUse {
-        ToolUse { number, cutting_distance: 0.0, moves: 0, kind: None, diameter: None, tip_angle: None, source: None }
+        ToolUse {
+            number,
+            cutting_distance: 0.0,
+            moves: 0,
+            kind: None,
+            diameter: None,
+            tip_angle: None,
+            source: None,
+            flute_length: None,
+            shank_diameter: None,
+            stick_out: None,
+            holder: Vec::new(),
+            unchecked: None,
+        }
     }
 }
 
@@ -179,6 +203,16 @@ impl Summary {
                 let pointed = matches!(tool.kind, ToolKind::Drill | ToolKind::CenterDrill);
                 used.tip_angle = tool.tip_angle.or(pointed.then_some(ger_sim::tool::DEFAULT_TIP_ANGLE));
                 used.source = config.tool_source(used.number).cloned();
+                used.flute_length = tool.flute_length;
+                used.shank_diameter = Some(tool.shank());
+                used.stick_out = tool.stick_out;
+                used.holder = tool.holder.iter().map(|p| [p.ends().0, p.ends().1, p.length]).collect();
+                used.unchecked = match (tool.flute_length.is_some(), !tool.holder.is_empty()) {
+                    (false, false) => Some("flute length and holder not configured: only the cutting edge is checked"),
+                    (false, true) => Some("flute length not configured: the shank is not checked"),
+                    (true, false) => Some("holder not configured: only the shank is checked"),
+                    (true, true) => None,
+                };
             }
         }
     }

@@ -2,7 +2,7 @@
 //! depths, lengths and times worked out by hand.
 
 use super::*;
-use ger_core::config::{StockConfig, Tool, ToolKind};
+use ger_core::config::{Coordinates, Fixture, HolderPiece, StockConfig, Tool, ToolKind};
 use ger_core::passes::testing;
 use ger_core::statement::Units;
 use ger_sim::Stock;
@@ -12,13 +12,7 @@ use ger_sim::Stock;
 fn config() -> Config {
     Config {
         units: Units::Mm,
-        tools: vec![Tool {
-            number: 1,
-            kind: ToolKind::Endmill,
-            diameter: 6.0,
-            flute_length: Some(10.0),
-            tip_angle: None,
-        }],
+        tools: vec![Tool { flute_length: Some(10.0), ..Tool::new(1, ToolKind::Endmill, 6.0) }],
         stock: StockConfig {
             size: Some([100.0, 50.0, 20.0]),
             origin: Some([0.0, 0.0, 20.0]),
@@ -83,7 +77,12 @@ fn a_clean_program_has_no_findings_and_its_summary_adds_up() {
             kind: Some(ToolKind::Endmill),
             diameter: Some(6.0),
             tip_angle: None,
-            source: None
+            source: None,
+            flute_length: Some(10.0),
+            shank_diameter: Some(6.0),
+            stick_out: None,
+            holder: Vec::new(),
+            unchecked: Some("holder not configured: only the shank is checked"),
         }]
     );
     let codes: Vec<(&str, u64)> = s.codes.iter().map(|(k, v)| (k.as_str(), *v)).collect();
@@ -120,14 +119,21 @@ fn cutting_with_the_spindle_stopped_is_an_error() {
 fn engaging_deeper_than_the_flutes_is_a_warning() {
     // A ramp (not a plunge) from the top down to Z-12: 12 mm of material against 10 mm flutes.
     let verdict = check("G21\nM03\nG00 X10 Y10 Z1\nG01 X60 Z-12 F100\nG00 Z5\nM30\n");
+    // Down there the shank, as wide as the cutter, is against the walls the
+    // flutes cut: within the clearance, on the ramp and on the way out.
     assert_eq!(
         found(&verdict),
-        ["4: flute-length: cuts 12.000 mm deep in one pass, more than tool 1's flute length of 10.000 mm"]
+        [
+            "4: flute-length: cuts 12.000 mm deep in one pass, more than tool 1's flute length of 10.000 mm",
+            "4: clearance: tool 1's shank passes within 0.500 mm of the stock",
+            "5: clearance: tool 1's shank passes within 0.500 mm of the stock"
+        ]
     );
-    assert!(!verdict.findings[0].diagnostic.is_error());
-    // The same depth in two passes of 6.
+    assert!(verdict.findings.iter().all(|f| !f.diagnostic.is_error()));
+    // The same depth in two passes of 6: the flutes are never over-engaged,
+    // though the shank still comes against the walls at the bottom.
     let verdict = check("G21\nM03\nG00 X10 Y10 Z1\nG01 X60 Z-6 F100\nX10\nX60 Z-12\nG00 Z5\nM30\n");
-    assert_eq!(found(&verdict), Vec::<String>::new());
+    assert!(verdict.findings.iter().all(|f| f.rule == Some(Rule::Clearance)), "{:?}", found(&verdict));
 }
 
 #[test]
@@ -148,7 +154,7 @@ fn plunging_a_flat_endmill_deeper_than_half_its_diameter_is_a_warning() {
 
 #[test]
 fn cutting_under_the_stock_is_a_warning() {
-    let allowed = [Rule::FluteLength, Rule::Plunge];
+    let allowed = [Rule::FluteLength, Rule::Plunge, Rule::Clearance];
     let verdict = check_with("G21\nM03\nG00 X10 Y10 Z1\nG01 Z-21.5 F100\nM30\n", &config(), &allowed);
     assert_eq!(found(&verdict), ["4: below-stock: cuts 1.500 mm below the bottom of the stock, into what holds it"]);
     let verdict = check_with("G21\nM03\nG00 X10 Y10 Z1\nG01 Z-20 F100\nM30\n", &config(), &allowed);
@@ -221,7 +227,7 @@ fn past_a_hundred_a_rule_only_counts_and_batches_do_not_lose_moves() {
         text.push_str(&format!("Z{:.2}\n", -0.01 * k as f64));
     }
     text.push_str("M30\n");
-    let verdict = check_with(&text, &config, &[]);
+    let verdict = check_with(&text, &config, &[Rule::Clearance]);
     assert_eq!(verdict.summary.problems.get("rapid-into-stock"), Some(&40_000));
     assert_eq!(verdict.findings.len(), SHOWN_PER_RULE as usize);
     assert_eq!(verdict.findings[99].diagnostic.span.line, 103);
@@ -273,4 +279,138 @@ fn statements_from_calls_belong_to_the_outermost_call() {
     assert_eq!(outermost_line(&statement), 3);
     statement.origin = Some(wizard);
     assert_eq!(outermost_line(&statement), 12);
+}
+
+/// A slot cut 2 mm a pass to Z-12 by a 6 mm endmill with 10 mm flutes on an
+/// 8 mm shank: from Z-10 the shank's bottom (10 mm above the tip) is level
+/// with the top, its ring 3 to 4 mm from the axis over uncut material.
+const DEEP_SLOT: &str = "G21\nM03 S10000\nG00 X20 Y25 Z1\nG01 Z-2 F100\nX60\nZ-4\nX20\nZ-6\nX60\nZ-8\nX20\n\
+                         Z-10\nX60\nZ-12\nX20\nG00 Z5\nM30\n";
+
+#[test]
+fn a_shank_wider_than_the_cutter_rubs_the_walls_of_a_slot_deeper_than_the_flutes() {
+    let mut config = config();
+    config.tools[0].shank_diameter = Some(8.0);
+    let verdict = check_with(DEEP_SLOT, &config, &[]);
+    // At Z-10 the shank is 0 mm from the top (within the 0.5 mm clearance);
+    // at Z-12 it is 2 mm into it, on the way along and on the way out.
+    assert_eq!(
+        found(&verdict),
+        [
+            "12: clearance: tool 1's shank passes within 0.500 mm of the stock",
+            "13: clearance: tool 1's shank passes within 0.500 mm of the stock",
+            "14: collision: tool 1's shank goes 2.000 mm into the stock",
+            "15: collision: tool 1's shank goes 2.000 mm into the stock",
+            "16: collision: tool 1's shank goes 2.000 mm into the stock in a rapid move (G00)",
+        ]
+    );
+    assert!(verdict.findings[2].diagnostic.is_error() && !verdict.findings[0].diagnostic.is_error());
+    // With 15 mm flutes the shank stays 3 mm above the top.
+    config.tools[0].flute_length = Some(15.0);
+    assert_eq!(found(&check_with(DEEP_SLOT, &config, &[])), Vec::<String>::new());
+    // Both checks can be allowed away, by name.
+    config.tools[0].flute_length = Some(10.0);
+    assert_eq!(found(&check_with(DEEP_SLOT, &config, &[Rule::Collision, Rule::Clearance])), Vec::<String>::new());
+}
+
+/// Tool 2, a 20 mm endmill, clears two slots 24 mm deep (Y 0 to 20 and 30 to
+/// 50), leaving a 10 mm rib between; tool 1 then runs down the first slot's
+/// middle at the bottom, its 30 mm holder 15 mm round the axis reaching
+/// Y 25, over the rib.
+const BESIDE_A_RIB: &str = "G21\nM06 T2\nM03 S10000\nG00 X10 Y10 Z1\nG01 Z-8 F100\nX90\nZ-16\nX10\nZ-24\nX90\n\
+                            G00 Z1\nX10 Y40\nG01 Z-8\nX90\nZ-16\nX10\nZ-24\nX90\nG00 Z5\nM06 T1\nG00 X20 Y10 Z1\n\
+                            G01 Z-24\nX80\nG00 Z5\nM30\n";
+
+fn holder_config(stick_out: f64) -> Config {
+    let mut config = config();
+    config.stock.size = Some([100.0, 50.0, 40.0]);
+    config.stock.origin = Some([0.0, 0.0, 40.0]);
+    config.tools = vec![
+        Tool {
+            flute_length: Some(20.0),
+            stick_out: Some(stick_out),
+            holder: vec![HolderPiece { diameter: Some(30.0), bottom: None, top: None, length: 40.0 }],
+            ..Tool::new(1, ToolKind::Endmill, 6.0)
+        },
+        Tool { flute_length: Some(40.0), ..Tool::new(2, ToolKind::Endmill, 20.0) },
+    ];
+    config
+}
+
+#[test]
+fn a_holder_that_reaches_over_a_rib_hits_it() {
+    // The holder's face is 22 mm above the tip: at Z-24 it is 2 mm under the rib's top.
+    let verdict = check_with(BESIDE_A_RIB, &holder_config(22.0), &[]);
+    assert_eq!(
+        found(&verdict),
+        [
+            "22: collision: tool 1's holder goes 2.000 mm into the stock",
+            "23: collision: tool 1's holder goes 2.000 mm into the stock",
+            "24: collision: tool 1's holder goes 2.000 mm into the stock in a rapid move (G00)",
+        ]
+    );
+    // 26 mm out, it passes 2 mm over the rib.
+    assert_eq!(found(&check_with(BESIDE_A_RIB, &holder_config(26.0), &[])), Vec::<String>::new());
+}
+
+/// A clamp 20 x 20 mm and 8 mm high on the block's top, over Y 40 to 60.
+fn clamp(coordinates: Coordinates) -> Fixture {
+    Fixture {
+        name: "clamp".to_string(),
+        min: Some([40.0, 40.0, 0.0]),
+        max: Some([60.0, 60.0, 8.0]),
+        centre: None,
+        diameter: None,
+        height: None,
+        coordinates,
+    }
+}
+
+#[test]
+fn a_rapid_through_a_clamp_is_an_error_naming_it() {
+    let mut config = config();
+    config.fixtures = vec![clamp(Coordinates::Program)];
+    // Across at Z5: the tip 3 mm under the clamp's top.
+    let low = "G21\nM03 S10000\nG00 Z5\nX10 Y45\nX90\nG00 Z10\nM30\n";
+    let verdict = check_with(low, &config, &[]);
+    assert_eq!(
+        found(&verdict),
+        ["5: fixture: tool 1 in a rapid move (G00): its cutting edge goes 3.000 mm into fixture \"clamp\""]
+    );
+    assert!(verdict.findings[0].diagnostic.is_error());
+    // At Z10 it passes 2 mm over it.
+    let high = "G21\nM03 S10000\nG00 Z10\nX10 Y45\nX90\nM30\n";
+    assert_eq!(found(&check_with(high, &config, &[])), Vec::<String>::new());
+    // A bolt's head, 10 across and 6 high at (50, 20): the 6 mm tool along
+    // Y20 at Z4 meets it with the flat of its tip, 2 mm down; along Y28.1 it
+    // clears it by a tenth (the tool's edge at 25.1, the bolt's at 25).
+    config.fixtures = vec![Fixture {
+        name: "bolt".to_string(),
+        min: None,
+        max: None,
+        centre: Some([50.0, 20.0, 0.0]),
+        diameter: Some(10.0),
+        height: Some(6.0),
+        coordinates: Coordinates::Program,
+    }];
+    let verdict = check_with("G21\nG00 Z4\nX10 Y20\nX90\nM30\n", &config, &[]);
+    assert_eq!(
+        found(&verdict),
+        ["4: fixture: tool 1 in a rapid move (G00): its cutting edge goes 2.000 mm into fixture \"bolt\""]
+    );
+    assert_eq!(found(&check_with("G21\nG00 Z4\nX10 Y28.1\nX90\nM30\n", &config, &[])), Vec::<String>::new());
+}
+
+#[test]
+fn a_fixture_in_program_coordinates_moves_with_g54() {
+    // G54 puts program zero at machine X100: the program's X10 to X90 is the machine's 110 to 190,
+    // and the clamp, given from G54's zero, is at the machine's 140 to 160.
+    let mut config = config();
+    config.offsets.g54 = Some([100.0, 0.0, 0.0]);
+    config.fixtures = vec![clamp(Coordinates::Program)];
+    let text = "G21 G54\nG00 Z5\nX10 Y45\nX90\nM30\n";
+    assert_eq!(found(&check_with(text, &config, &[])).len(), 1);
+    // The same clamp at machine X40 to 60 is not in the way.
+    config.fixtures = vec![clamp(Coordinates::Machine)];
+    assert_eq!(found(&check_with(text, &config, &[])), Vec::<String>::new());
 }

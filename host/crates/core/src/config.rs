@@ -47,6 +47,9 @@ pub struct Config {
     /// What `ger check` looks for.
     #[serde(default)]
     pub check: CheckConfig,
+    /// What holds the stock, for `ger check` to keep the tool off.
+    #[serde(default)]
+    pub fixtures: Vec<Fixture>,
     /// The controller the output is written for: `target = "grbl"`, or a
     /// `[target]` table with the name and what that controller has. Only the
     /// output's shape depends on it (the `ger-controller` crate); the translation
@@ -261,10 +264,13 @@ pub enum Rule {
     Travel,
     ArcRadius,
     DefaultTool,
+    Collision,
+    Clearance,
+    Fixture,
 }
 
 impl Rule {
-    pub const ALL: [Rule; 8] = [
+    pub const ALL: [Rule; 11] = [
         Rule::RapidIntoStock,
         Rule::SpindleOff,
         Rule::FluteLength,
@@ -273,6 +279,9 @@ impl Rule {
         Rule::Travel,
         Rule::ArcRadius,
         Rule::DefaultTool,
+        Rule::Collision,
+        Rule::Clearance,
+        Rule::Fixture,
     ];
 
     pub fn name(self) -> &'static str {
@@ -285,6 +294,9 @@ impl Rule {
             Rule::Travel => "travel",
             Rule::ArcRadius => "arc-radius",
             Rule::DefaultTool => "default-tool",
+            Rule::Collision => "collision",
+            Rule::Clearance => "clearance",
+            Rule::Fixture => "fixture",
         }
     }
 
@@ -307,10 +319,53 @@ pub struct CheckConfig {
     /// How deep a flat endmill may plunge straight down into material, as a
     /// fraction of its diameter: default 0.5.
     pub plunge_fraction: Option<f64>,
+    /// How near a shank or holder may pass the stock before it is a
+    /// warning (`clearance`), in machine units: default 0.5 mm or 0.02 in.
+    pub clearance: Option<f64>,
 }
+
+/// `[[fixtures]]`: what holds the stock (vise jaws, clamps, bolts), which no
+/// part of the tool may touch: a box (`min`, `max`) or an upright cylinder
+/// (`centre` of its base, `diameter`, `height`).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fixture {
+    pub name: String,
+    pub min: Option<[f64; 3]>,
+    pub max: Option<[f64; 3]>,
+    pub centre: Option<[f64; 3]>,
+    pub diameter: Option<f64>,
+    pub height: Option<f64>,
+    /// Whether the coordinates are from G54's program zero (`[offsets]
+    /// G54`: the default) or the machine's.
+    #[serde(default)]
+    pub coordinates: Coordinates,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coordinates {
+    #[default]
+    Program,
+    Machine,
+}
+
+/// The most `[[fixtures]]` a file may list.
+pub const MAX_FIXTURES: usize = 64;
 
 fn one() -> u32 {
     1
+}
+
+impl StockConfig {
+    /// The block's lowest and highest corners in machine coordinates, when
+    /// its size is given: program zero at `origin` from its lower-left-bottom
+    /// corner (by default on its top).
+    pub fn block(&self) -> Option<[[f64; 3]; 2]> {
+        let size = self.size?;
+        let origin = self.origin.unwrap_or([0.0, 0.0, size[2]]);
+        Some([origin.map(|o| -o), std::array::from_fn(|axis| size[axis] - origin[axis])])
+    }
 }
 
 /// `[stock]`: either `size` (with `origin`) or `margin`; by default a margin.
@@ -417,9 +472,42 @@ pub struct Tool {
     pub flute_length: Option<f64>,
     /// For drills: the point's included angle in degrees.
     pub tip_angle: Option<f64>,
+    /// The shank above the flutes: default the cutting diameter.
+    pub shank_diameter: Option<f64>,
+    /// From the tip to the holder's face: the shank runs from the flutes
+    /// to there. Without it the shank goes up without end.
+    pub stick_out: Option<f64>,
+    /// The holder, from its face up: cylinders and cones, each `length`
+    /// long. Without it only the shank is checked.
+    #[serde(default)]
+    pub holder: Vec<HolderPiece>,
+}
+
+/// One piece of a tool holder: a cylinder (`diameter`), or a cone from
+/// `bottom` to `top` diameter, `length` long.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HolderPiece {
+    pub diameter: Option<f64>,
+    pub bottom: Option<f64>,
+    pub top: Option<f64>,
+    pub length: f64,
+}
+
+impl HolderPiece {
+    /// Its diameters at the bottom and the top (once validated, one of the two forms is given).
+    pub fn ends(&self) -> (f64, f64) {
+        match (self.diameter, self.bottom, self.top) {
+            (Some(d), _, _) => (d, d),
+            (None, Some(bottom), Some(top)) => (bottom, top),
+            _ => (0.0, 0.0),
+        }
+    }
 }
 
 pub const MAX_TOOLS: usize = 20;
+/// The most pieces a holder is described by.
+pub const MAX_HOLDER_PIECES: usize = 8;
 /// The most `[render] memory_limit_mb` and `--memory-limit` may say: 1 TiB.
 pub const MAX_MEMORY_MIB: u64 = 1 << 20;
 /// M47 runs a program again at most this many times.
@@ -461,6 +549,7 @@ impl Default for Config {
             stock: StockConfig::default(),
             render: RenderConfig::default(),
             check: CheckConfig::default(),
+            fixtures: Vec::new(),
             target: TargetConfig::default(),
         }
     }
@@ -474,7 +563,26 @@ impl Tool {
     /// Tool 1 when nothing describes it: a quarter-inch endmill, in `units`.
     pub fn default_tool(units: Units) -> Tool {
         let diameter = 0.25 * Units::Inch.factor_to(units);
-        Tool { number: 1, kind: ToolKind::Endmill, diameter, flute_length: None, tip_angle: None }
+        Tool::new(1, ToolKind::Endmill, diameter)
+    }
+
+    /// A tool of which only the kind and diameter are known.
+    pub fn new(number: u32, kind: ToolKind, diameter: f64) -> Tool {
+        Tool {
+            number,
+            kind,
+            diameter,
+            flute_length: None,
+            tip_angle: None,
+            shank_diameter: None,
+            stick_out: None,
+            holder: Vec::new(),
+        }
+    }
+
+    /// The shank's diameter: as given, else the cutting diameter.
+    pub fn shank(&self) -> f64 {
+        self.shank_diameter.unwrap_or(self.diameter)
     }
 }
 
@@ -632,6 +740,50 @@ impl Config {
                 let message = format!("tool {n}: flute_length must be from {} to {tool_size} {unit}", quoted(smallest));
                 return Err(at(&key("flute_length"), message));
             }
+            if tool.shank_diameter.is_some_and(|d| !(smallest..=tool_size).contains(&d)) {
+                let message =
+                    format!("tool {n}: shank_diameter must be from {} to {tool_size} {unit}", quoted(smallest));
+                return Err(at(&key("shank_diameter"), message));
+            }
+            if let Some(stick_out) = tool.stick_out {
+                let flutes = tool.flute_length.unwrap_or(0.0);
+                if !(stick_out > flutes && stick_out <= tool_size) {
+                    let message = format!(
+                        "tool {n}: stick_out must be longer than the flutes ({} {unit}) and at most {tool_size} {unit}",
+                        quoted(flutes)
+                    );
+                    return Err(at(&key("stick_out"), message));
+                }
+            }
+            if !tool.holder.is_empty() && tool.stick_out.is_none() {
+                let message = format!("tool {n}: a holder needs the tool's stick_out (from its tip to the holder)");
+                return Err(at(&key("holder"), message));
+            }
+            if tool.holder.len() > MAX_HOLDER_PIECES {
+                let message = format!("tool {n}: a holder has at most {MAX_HOLDER_PIECES} pieces");
+                return Err(at(
+                    &[Step::Key("tools"), Step::Index(i), Step::Key("holder"), Step::Index(MAX_HOLDER_PIECES)],
+                    message,
+                ));
+            }
+            for (p, piece) in tool.holder.iter().enumerate() {
+                let steps = [Step::Key("tools"), Step::Index(i), Step::Key("holder"), Step::Index(p)];
+                let size = |x: f64| (smallest..=tool_size).contains(&x);
+                let form = match (piece.diameter, piece.bottom, piece.top) {
+                    (Some(d), None, None) => size(d),
+                    (None, Some(bottom), Some(top)) => size(bottom) && size(top),
+                    _ => false,
+                };
+                if !form || !size(piece.length) {
+                    let message = format!(
+                        "tool {n}: holder piece {} must be {{ diameter, length }} or {{ bottom, top, length }}, \
+                         each from {} to {tool_size} {unit}",
+                        p + 1,
+                        quoted(smallest)
+                    );
+                    return Err(at(&steps, message));
+                }
+            }
             if self.tools[..i].iter().any(|t| t.number == n) {
                 return Err(at(&key("number"), format!("tool {n} is in the tool table twice")));
             }
@@ -756,7 +908,45 @@ impl Config {
                 format!("[check] plunge_fraction must be above 0 and at most {MAX_PLUNGE_FRACTION} (diameters)");
             return Err(at(&key("check", "plunge_fraction"), message));
         }
+        if self.check.clearance.is_some_and(|c| !(0.0..=tool_size).contains(&c)) {
+            let message = format!("[check] clearance must be from 0 to {tool_size} {unit}");
+            return Err(at(&key("check", "clearance"), message));
+        }
+        if self.fixtures.len() > MAX_FIXTURES {
+            let message = format!("at most {MAX_FIXTURES} fixtures may be listed");
+            return Err(at(&[Step::Key("fixtures"), Step::Index(MAX_FIXTURES)], message));
+        }
+        for (i, fixture) in self.fixtures.iter().enumerate() {
+            let sized = |x: Option<f64>| x.is_some_and(|x| (smallest..=length).contains(&x));
+            let fits = match (fixture.min, fixture.max, fixture.centre) {
+                (Some(min), Some(max), None) => {
+                    fixture.diameter.is_none()
+                        && fixture.height.is_none()
+                        && coordinates(&min)
+                        && coordinates(&max)
+                        && (0..3).all(|a| sized(Some(max[a] - min[a])))
+                }
+                (None, None, Some(centre)) => coordinates(&centre) && sized(fixture.diameter) && sized(fixture.height),
+                _ => false,
+            };
+            if !fits {
+                let message = format!(
+                    "fixture \"{}\" must be a box (min and max, max above min on every axis) or an upright \
+                     cylinder (centre, diameter, height), within ±{length} {unit}",
+                    fixture.name
+                );
+                return Err(at(&[Step::Key("fixtures"), Step::Index(i)], message));
+            }
+        }
         Ok(self)
+    }
+
+    /// How near a shank or holder may pass the stock, in machine units.
+    pub fn clearance(&self) -> f64 {
+        self.check.clearance.unwrap_or(match self.units {
+            Units::Inch => 0.02,
+            Units::Mm => 0.5,
+        })
     }
 
     /// The stock's margin in machine units: as configured, or 0.1 in / 2.5 mm.
@@ -935,6 +1125,45 @@ tip_angle = 90
     }
 
     #[test]
+    fn a_tool_assembly_and_fixtures_parse() {
+        let text = r#"
+units = "mm"
+[check]
+clearance = 1
+[[tools]]
+number = 2
+kind = "endmill"
+diameter = 3
+flute_length = 8
+shank_diameter = 6
+stick_out = 30
+holder = [{ bottom = 20, top = 30, length = 10 }, { diameter = 40, length = 20 }]
+[[fixtures]]
+name = "left jaw"
+min = [-20, 0, -20]
+max = [0, 50, 5]
+coordinates = "machine"
+[[fixtures]]
+name = "bolt"
+centre = [50, 60, 0]
+diameter = 10
+height = 6
+"#;
+        let config = Config::from_toml(text).unwrap();
+        let tool = config.tool(2).unwrap();
+        assert_eq!((tool.shank(), tool.stick_out), (6.0, Some(30.0)));
+        assert_eq!(tool.holder.iter().map(HolderPiece::ends).collect::<Vec<_>>(), [(20.0, 30.0), (40.0, 40.0)]);
+        assert_eq!(config.clearance(), 1.0);
+        assert_eq!(config.fixtures[0].coordinates, Coordinates::Machine);
+        assert_eq!(config.fixtures[1].coordinates, Coordinates::Program);
+        // The defaults: the shank is the cutting diameter; clearance 0.5 mm or 0.02 in.
+        let config = Config::from_toml("units = \"mm\"\n").unwrap();
+        assert_eq!(config.tool(1).unwrap().shank(), 6.35);
+        assert_eq!(config.clearance(), 0.5);
+        assert_eq!(Config::default().clearance(), 0.02);
+    }
+
+    #[test]
     fn errors_name_the_key_and_line() {
         let err = Config::from_toml("units = \"mm\"\n[offsets]\nG60 = [1, 2, 3]\n").unwrap_err();
         assert_eq!(err.span.line, 3);
@@ -1010,6 +1239,26 @@ tip_angle = 90
             ("units = \"mm\"\n[machine]\nspline_tolerance = -1\n", 3, "at least 0.002 mm"),
             ("[machine]\nspline_tolerance = 1e300\n", 2, "at most 40 in"),
             ("[[tools]]\nnumber = 1\nkind = \"drill\"\ndiameter = 1\ntip_angle = 180\n", 5, "tip_angle"),
+            ("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nshank_diameter = 0\n", 5, "shank_diameter"),
+            (
+                "[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nflute_length = 1\nstick_out = 0.5\n",
+                6,
+                "longer than the flutes (1 in)",
+            ),
+            (
+                "[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nholder = [{ diameter = 2, length = 1 }]\n",
+                5,
+                "needs the tool's stick_out",
+            ),
+            (
+                "[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 1\nstick_out = 2\n\
+                 holder = [\n  { diameter = 2, length = 1 },\n  { diameter = 2, bottom = 1, length = 1 },\n]\n",
+                8,
+                "holder piece 2 must be",
+            ),
+            ("[check]\nclearance = -0.1\n", 2, "clearance must be from 0 to 40 in"),
+            ("[[fixtures]]\nname = \"jaw\"\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n", 1, "fixture \"jaw\" must be"),
+            ("[[fixtures]]\nname = \"bolt\"\ncentre = [0, 0, 0]\ndiameter = 1\n", 1, "upright"),
         ] {
             let err = Config::from_toml(text).unwrap_err();
             assert_eq!(err.span.line, line, "{text}");

@@ -101,6 +101,9 @@ pub struct CallState {
     pub tool_number: u32,
     /// The line of the call.
     pub line: u32,
+    /// The stock block's box in program coordinates and units at the call,
+    /// when `[stock]` gives its size.
+    pub stock: Option<[[f64; 3]; 2]>,
 }
 
 /// Where the program has got to, in its own units, for the parameters that
@@ -156,8 +159,13 @@ impl Snapshot {
     /// The tool's position in program coordinates (after G52/G54..G59/G92)
     /// and units: what LinuxCNC's #5420-#5422 read.
     pub fn program_position(&self, machine_units: Units) -> [f64; 3] {
+        self.in_program(self.position, machine_units)
+    }
+
+    /// A point in machine coordinates as the program reads it.
+    fn in_program(&self, machine: [f64; 3], machine_units: Units) -> [f64; 3] {
         let to_program = machine_units.factor_to(self.program_units);
-        let from_zero: [f64; 3] = std::array::from_fn(|axis| self.position[axis] - self.prz[axis]);
+        let from_zero: [f64; 3] = std::array::from_fn(|axis| machine[axis] - self.prz[axis]);
         // Along the coordinate system's own axes, turned back by its rotation.
         let [x, y] = crate::geom::turn([from_zero[0], from_zero[1]], -self.rotation);
         let program = [x, y, from_zero[2]];
@@ -181,7 +189,23 @@ impl Snapshot {
             tool,
             tool_number: self.tool,
             line,
+            stock: config.stock.block().map(|block| self.box_in_program(block, config.units)),
         }
+    }
+
+    /// The box along the program's axes around `block` (machine
+    /// coordinates and units): its corners as the program reads them.
+    fn box_in_program(&self, block: [[f64; 3]; 2], machine_units: Units) -> [[f64; 3]; 2] {
+        let mut found = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+        for corner in 0..8 {
+            let machine = std::array::from_fn(|axis| block[(corner >> axis) & 1][axis]);
+            let program = self.in_program(machine, machine_units);
+            for axis in 0..3 {
+                found[0][axis] = found[0][axis].min(program[axis]);
+                found[1][axis] = found[1][axis].max(program[axis]);
+            }
+        }
+        found
     }
 }
 
@@ -202,5 +226,24 @@ mod tests {
         // One along machine Y from program zero is one along X turned 90°.
         let [x, y, z] = state.position;
         assert!((x - 1.0).abs() < 1e-12 && y.abs() < 1e-12 && z == 2.0, "{:?}", state.position);
+    }
+
+    #[test]
+    fn a_wizard_is_told_the_stock_in_its_own_coordinates_and_units() {
+        let config = Config::from_toml("units = \"mm\"\n[stock]\nsize = [100, 50, 20]\n").unwrap();
+        let probe = probe(Units::Mm);
+        {
+            let mut snapshot = probe.borrow_mut();
+            snapshot.program_units = Units::Inch;
+            snapshot.prz = [10.0, 5.0, 0.0];
+        }
+        // Program zero on the block's top lower-left corner, then G54 10 mm
+        // along X and 5 along Y: the block from -10, -5, -20 to 90, 45, 0 mm.
+        let [min, max] = probe.borrow().call_state(&config, 1).stock.unwrap();
+        let expected = [[-10.0, -5.0, -20.0], [90.0, 45.0, 0.0]].map(|corner| corner.map(|mm| mm / 25.4));
+        for (got, want) in [min, max].iter().flatten().zip(expected.iter().flatten()) {
+            assert!((got - want).abs() < 1e-12, "{min:?} {max:?}");
+        }
+        assert_eq!(probe.borrow().call_state(&Config::default(), 1).stock, None);
     }
 }

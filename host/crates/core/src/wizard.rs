@@ -25,16 +25,31 @@ pub const SHOWN_NAME: usize = 64;
 /// diagnostic shows.
 pub const SHOWN_MESSAGE: usize = 1000;
 
+/// The key a wizard is found by: its name, ignoring case, `-` and `_`
+/// (`BoltCircle` runs `boltcircle.wasm` or `bolt-circle.wasm`).
+pub fn key(name: &str) -> String {
+    name.chars().filter(|c| !matches!(c, '-' | '_')).flat_map(char::to_lowercase).collect()
+}
+
 /// A wizard's name as diagnostics show it: cut to [`SHOWN_NAME`] characters.
 pub fn shown_name(name: &str) -> std::borrow::Cow<'_, str> {
     clip(name, SHOWN_NAME)
 }
 
+/// What a call becomes.
+#[derive(Debug, Default)]
+pub struct Expansion {
+    /// The statements that replace the call.
+    pub statements: Vec<Statement>,
+    /// Warnings the wizard gave, at the call's span: the statements still run.
+    pub warnings: Vec<Diagnostic>,
+}
+
 /// Runs wizards.
 pub trait Wizards {
-    /// The statements that replace `call`, each with the call's span, or a
-    /// diagnostic (at the call's span) saying why there are none.
-    fn expand(&mut self, call: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic>;
+    /// What replaces `call`, each statement with the call's span, or a
+    /// diagnostic (at the call's span) saying why nothing does.
+    fn expand(&mut self, call: &Call, state: &CallState) -> Result<Expansion, Diagnostic>;
 
     /// A translation starts: what all the wizard calls of one program may use
     /// together (time, statements) is counted afresh from here.
@@ -45,7 +60,7 @@ pub trait Wizards {
 pub struct NoWizards;
 
 impl Wizards for NoWizards {
-    fn expand(&mut self, call: &Call, _: &CallState) -> Result<Vec<Statement>, Diagnostic> {
+    fn expand(&mut self, call: &Call, _: &CallState) -> Result<Expansion, Diagnostic> {
         let message = format!("no wizard named `{}` to run this call", shown_name(call.name));
         Err(Diagnostic::error(call.span, message).with_help(wizard_help(call.name)))
     }

@@ -38,13 +38,14 @@ mod report;
 mod source;
 
 pub use machine::{ConfigError, Purpose, Settings};
-pub use program::{Culprit, Extent, Program, Refused, Resolution};
+pub use program::{carve, place_design, stock_of, Culprit, Extent, Job, Program, Refused, Resolution};
 pub use progress::{Progress, Silent};
 pub use report::Report;
 pub use source::{ReadError, Source};
 
 // What a caller needs to use the answers, from the crates that make them.
 pub use ger_check as check;
+pub use ger_compare as compare;
 pub use ger_core as core;
 pub use ger_render as render;
 pub use ger_sim as sim;

@@ -7,11 +7,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use ger_check::{Checker, Rule, Verdict};
+use ger_compare::{Design, Judged};
 use ger_controller::Writer;
 use ger_core::config::{quoted, Bounds, Config, MAX_MEMORY_MIB};
 use ger_core::emit::Emitter;
 use ger_core::passes::{translate, Event, Options, LAST_STAGE};
-use ger_core::statement::Statement;
+use ger_core::statement::{Statement, Units};
 use ger_core::wizard::{NoWizards, Wizards};
 use ger_render::label;
 use ger_render::pieces::{self, Piece};
@@ -92,6 +93,9 @@ impl<'p> Parts<'p> {
             }
             if n % 4096 == 0 {
                 progress.advance(count.load(Ordering::Relaxed));
+                if progress.stopped() {
+                    break;
+                }
             }
         }
         progress.end();
@@ -310,6 +314,56 @@ impl Program {
         (simulation.finish(), report)
     }
 
+    /// The part the program cuts out of `simulation`'s stock against
+    /// `design` (placed in machine coordinates, see [`place_design`]): the
+    /// comparison at `tolerance`, with the lines of the moves that cut
+    /// below the design where it is gouged deepest (a second pass, over
+    /// those cells alone), each cell's verdict, the part and the report.
+    pub fn compare(
+        &mut self,
+        simulation: Simulation,
+        design: &Design,
+        tolerance: f64,
+        progress: &mut dyn Progress,
+    ) -> (Judged, HeightField, Report) {
+        let (field, report) = self.simulate(simulation, progress);
+        let judged = self.judge(&field, design, tolerance, progress);
+        (judged, field, report)
+    }
+
+    /// `part`, which this program cut, against `design` (see [`Program::compare`]).
+    pub fn judge(
+        &mut self,
+        field: &HeightField,
+        design: &Design,
+        tolerance: f64,
+        progress: &mut dyn Progress,
+    ) -> Judged {
+        let top = design.top_surface(field);
+        let mut judged = ger_compare::compare(field, &top, tolerance);
+        if !judged.gouged.is_empty() {
+            // Those cells cut again, in program order: a move that lowered one below the design gouged it.
+            let mut lines = std::collections::BTreeSet::new();
+            let cell = field.cell;
+            let mut cells: Vec<([f64; 2], f64, f64)> =
+                judged.gouged.iter().map(|&(at, below)| (at, below, field.top())).collect();
+            self.parts().moves("attributing", progress, |m, cutter| {
+                let Some(cutter) = cutter else { return };
+                for (at, below, height) in &mut cells {
+                    let low = ger_sim::lowest_over(&m.segment, &cutter, at[0], at[1], cell);
+                    if low < *height {
+                        *height = low;
+                        if low < *below {
+                            lines.insert(m.span.line);
+                        }
+                    }
+                }
+            });
+            judged.comparison.gouge.lines = lines.into_iter().collect();
+        }
+        judged
+    }
+
     /// The verifier's verdict, cutting `simulation`'s stock: the translation's
     /// diagnostics and the checks' (all but `allowed`), and the summary; and the part.
     pub fn check(
@@ -329,6 +383,116 @@ impl Program {
         });
         checker.finish_with_part()
     }
+}
+
+/// Programs cut one after another on one stock: a CAM job posted one file
+/// an operation (roughing, finishing, drilling). Each is judged against
+/// what the ones before it left; each keeps its own machine (its tools).
+pub struct Job {
+    /// Never empty.
+    programs: Vec<Program>,
+}
+
+impl Job {
+    /// `first`, then `rest`, in that order.
+    pub fn new(first: Program, rest: Vec<Program>) -> Job {
+        let mut programs = vec![first];
+        programs.extend(rest);
+        Job { programs }
+    }
+
+    pub fn programs(&self) -> &[Program] {
+        &self.programs
+    }
+
+    pub fn programs_mut(&mut self) -> &mut [Program] {
+        &mut self.programs
+    }
+
+    /// The first program's `[stock]`, or else the stock round what all of
+    /// them cut (with the first's margin), with each program's report of
+    /// the pass that found it.
+    pub fn stock(&mut self, progress: &mut dyn Progress) -> (Stock, Vec<Report>) {
+        if let Some(stock) = Stock::from_config(&self.programs[0].config) {
+            return (stock, Vec::new());
+        }
+        let mut cut = CutBounds::default();
+        let mut reports = Vec::new();
+        for program in &mut self.programs {
+            let extent = program.extent(progress);
+            cut.merge(&extent.cut);
+            reports.push(extent.report);
+        }
+        (cut.stock_for(&self.programs[0].config), reports)
+    }
+
+    /// The simulation of `stock` the first program's machine asks for (see [`Program::simulation`]).
+    pub fn simulation(&self, stock: Stock, asked: Resolution) -> Result<Simulation, Refused> {
+        self.programs[0].simulation(stock, asked)
+    }
+
+    /// The part all the programs cut in turn out of `simulation`'s stock,
+    /// and each one's report.
+    pub fn simulate(&mut self, simulation: Simulation, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
+        let (part, first) = self.programs[0].simulate(simulation, progress);
+        let (part, mut reports) = self.simulate_on(part, progress);
+        reports.insert(0, first);
+        (part, reports)
+    }
+
+    /// The programs after the first cut on `part`, as the first left it, and their reports.
+    pub fn simulate_on(&mut self, mut part: HeightField, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
+        let mut reports = Vec::new();
+        for program in &mut self.programs[1..] {
+            let report;
+            (part, report) = program.simulate(Simulation::resume(part), progress);
+            reports.push(report);
+        }
+        (part, reports)
+    }
+
+    /// Each program's verdict in turn, cutting `simulation`'s stock on from
+    /// where the one before left it; and the part at the end.
+    pub fn check(
+        &mut self,
+        mut simulation: Simulation,
+        allowed: &[Rule],
+        progress: &mut dyn Progress,
+    ) -> (Vec<Verdict>, HeightField) {
+        let mut verdicts = Vec::new();
+        for program in &mut self.programs {
+            let (verdict, part) = program.check(simulation, allowed, progress);
+            verdicts.push(verdict);
+            simulation = Simulation::resume(part);
+        }
+        (verdicts, simulation.finish())
+    }
+}
+
+/// A stock that starts as `mesh` (a casting, an earlier job's part), in
+/// machine coordinates as it is: its box.
+pub fn stock_of(mesh: &Design) -> Stock {
+    let (min, max) = mesh.bounds();
+    Stock { min, max }
+}
+
+/// Shapes `simulation`'s stock as `mesh`'s top surface (see [`stock_of`]).
+pub fn carve(simulation: &mut Simulation, mesh: &Design) {
+    let top = mesh.top_surface(simulation.field());
+    simulation.carve(&top);
+}
+
+/// Puts `design` where the part is: its coordinates are in `units`
+/// (scaled to the machine's); `origin`, where program zero is in them
+/// (as `[stock] origin` says where it is in the block), or else the
+/// design's lowest corner on the stock's.
+pub fn place_design(design: &mut Design, config: &Config, units: Units, origin: Option<[f64; 3]>, stock: &Stock) {
+    let scale = units.factor_to(config.units);
+    let shift = match origin {
+        Some(origin) => -Point::from(origin) * scale,
+        None => stock.min - design.bounds().0 * scale,
+    };
+    design.place(scale, shift);
 }
 
 /// See [`Program::simulation`].

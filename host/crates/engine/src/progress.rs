@@ -16,6 +16,13 @@ pub trait Progress {
 
     /// The pass is over.
     fn end(&mut self) {}
+
+    /// Whether the caller no longer wants the pass (an editor's newer text
+    /// makes it stale): asked as often as `advance` is told, and the pass
+    /// stops early when it says so.
+    fn stopped(&self) -> bool {
+        false
+    }
 }
 
 /// Progress nobody is told of.

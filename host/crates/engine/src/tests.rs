@@ -89,6 +89,39 @@ fn progress_is_told_of_each_pass_over_the_program() {
     assert_eq!(progress.total, SLOT.len() as u64);
 }
 
+/// Stops the pass once told of `after` bytes read.
+struct StopAfter(u64, u64);
+
+impl Progress for StopAfter {
+    fn advance(&mut self, done: u64) {
+        self.1 = done;
+    }
+
+    fn stopped(&self) -> bool {
+        self.1 >= self.0
+    }
+}
+
+#[test]
+fn a_pass_stops_when_its_progress_says_so() {
+    // 10,000 moves, each its own statement: progress is asked every 4096 events.
+    let text: String = (0..10_000).map(|i| format!("G01 X{} F10\n", i % 7)).collect();
+    let mut program = Program::new(Source::text("long.nc", ".", text), Config::default());
+    let count = |program: &mut Program, progress: &mut dyn Progress| {
+        let mut events = 0;
+        program.for_each_event("checking", progress, |_| {
+            events += 1;
+            true
+        });
+        events
+    };
+    assert_eq!(count(&mut program, &mut Silent), 10_000);
+    // Asked after the first event, it stops there; wanting 1000 bytes read
+    // (90 lines of 11 bytes), it stops at the next asking, after event 4097.
+    assert_eq!(count(&mut program, &mut StopAfter(0, 0)), 1);
+    assert_eq!(count(&mut program, &mut StopAfter(1000, 0)), 4097);
+}
+
 #[test]
 fn the_stock_by_margin_is_the_cut_and_the_part_has_the_slot() {
     let mut program = slot();
@@ -252,4 +285,135 @@ fn a_subroutine_the_program_does_not_define_is_read_from_its_file() {
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(errors[0].contains("o<nowhere> is called but never defined"), "{errors:?}");
     assert!(errors[0].contains("nowhere.ngc beside it or in a folder of [dialect] subroutine_path"), "{errors:?}");
+}
+
+/// A binary STL of quads, each given counter-clockwise seen from outside the solid.
+fn binary_stl(quads: &[[[f64; 3]; 4]]) -> Vec<u8> {
+    let mut bytes = vec![0u8; 80];
+    bytes.extend_from_slice(&(2 * quads.len() as u32).to_le_bytes());
+    for &[a, b, c, d] in quads {
+        for triangle in [[a, b, c], [a, c, d]] {
+            bytes.extend_from_slice(&[0u8; 12]);
+            for v in triangle {
+                for x in v {
+                    bytes.extend_from_slice(&(x as f32).to_le_bytes());
+                }
+            }
+            bytes.extend_from_slice(&[0, 0]);
+        }
+    }
+    bytes
+}
+
+/// The design: a 100 x 50 x 20 mm block (Z -20 to 0) with a slot 10 mm wide
+/// and 5 deep along X, from Y 20 to 30, through both ends. Its faces meet
+/// edge to edge: every face is cut where a neighbour's edge ends.
+fn slotted_block() -> Vec<u8> {
+    let (ys, zs) = ([0.0, 20.0, 30.0, 50.0], [-20.0, -5.0, 0.0]);
+    let mut quads = Vec::new();
+    // The bottom, in three strips; the top, either side of the slot; the slot's floor.
+    for k in 0..3 {
+        let (y0, y1) = (ys[k], ys[k + 1]);
+        quads.push([[0.0, y0, -20.0], [0.0, y1, -20.0], [100.0, y1, -20.0], [100.0, y0, -20.0]]);
+        let z = if k == 1 { -5.0 } else { 0.0 };
+        quads.push([[0.0, y0, z], [100.0, y0, z], [100.0, y1, z], [0.0, y1, z]]);
+    }
+    // The long sides, each in two bands (Z -20 to -5, -5 to 0); the slot's walls.
+    for band in 0..2 {
+        let (z0, z1) = (zs[band], zs[band + 1]);
+        quads.push([[0.0, 0.0, z0], [100.0, 0.0, z0], [100.0, 0.0, z1], [0.0, 0.0, z1]]);
+        quads.push([[100.0, 50.0, z0], [0.0, 50.0, z0], [0.0, 50.0, z1], [100.0, 50.0, z1]]);
+    }
+    quads.push([[100.0, 20.0, -5.0], [0.0, 20.0, -5.0], [0.0, 20.0, 0.0], [100.0, 20.0, 0.0]]);
+    quads.push([[0.0, 30.0, -5.0], [100.0, 30.0, -5.0], [100.0, 30.0, 0.0], [0.0, 30.0, 0.0]]);
+    // The ends: a grid of Y by Z cells but the slot's.
+    for k in 0..3 {
+        for band in 0..2 {
+            if k == 1 && band == 1 {
+                continue;
+            }
+            let (y0, y1, z0, z1) = (ys[k], ys[k + 1], zs[band], zs[band + 1]);
+            quads.push([[0.0, y1, z0], [0.0, y0, z0], [0.0, y0, z1], [0.0, y1, z1]]);
+            quads.push([[100.0, y0, z0], [100.0, y1, z0], [100.0, y1, z1], [100.0, y0, z1]]);
+        }
+    }
+    binary_stl(&quads)
+}
+
+fn compare(text: &str, tool: &str) -> crate::compare::Comparison {
+    let toml = format!(
+        "units = \"mm\"\n[stock]\nsize = [100, 50, 20]\norigin = [0, 0, 20]\n\
+         [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = {tool}\nflute_length = 20\n"
+    );
+    let config = Config::from_toml(&toml).unwrap();
+    let mut design = crate::compare::Design::read(&mut std::io::Cursor::new(slotted_block())).unwrap();
+    let mut program = Program::new(Source::text("slot.nc", ".", text), config.clone());
+    let (stock, _) = program.stock(&mut Silent);
+    crate::place_design(&mut design, &config, Units::Mm, None, &stock);
+    let sim = program.simulation(stock, Resolution { cell: Some(0.1), ..Resolution::default() }).unwrap();
+    program.compare(sim, &design, 0.05, &mut Silent).0.comparison
+}
+
+#[test]
+fn the_part_against_its_design_exact_gouged_and_with_a_rib_left() {
+    // A 10 mm endmill along the slot's middle, from outside the block to outside it.
+    let exact = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG01 Z-5 F500\nX110\nG00 Z5\nM30\n";
+    let c = compare(exact, "10");
+    assert_eq!((c.gouge.area, c.left.area, c.gouge.worst, c.left.worst), (0.0, 0.0, 0.0, 0.0), "{c:?}");
+    assert!((c.judged_area - 5000.0).abs() < 1e-6, "{}", c.judged_area);
+
+    // Then 0.3 mm deeper from X50 to X70 (lines 7 and 8; the retract, line 9, cuts nothing): a
+    // stadium 20 x 10 mm with round ends, 200 + 25 pi mm², 0.3 mm deep.
+    let deep = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG01 Z-5 F500\nX110\nG00 X50 Z1\nG01 Z-5.3\nX70\nG00 Z5\nM30\n";
+    let c = compare(deep, "10");
+    let area = 200.0 + 25.0 * std::f64::consts::PI;
+    assert!((c.gouge.worst - 0.3).abs() < 1e-5, "{:?}", c.gouge);
+    let [x, y] = c.gouge.at.unwrap();
+    assert!((45.0..=75.0).contains(&x) && (20.0..=30.0).contains(&y), "{:?}", c.gouge.at);
+    assert!((c.gouge.area - area).abs() / area < 0.02, "{} vs {area}", c.gouge.area);
+    assert!((c.gouge.volume - 0.3 * area).abs() / (0.3 * area) < 0.02, "{:?}", c.gouge);
+    assert_eq!(c.gouge.lines, [7, 8]);
+    assert_eq!(c.left.area, 0.0);
+
+    // A 4 mm endmill along Y22 and Y28 leaves a rib 2 mm wide, 5 high and 100 long between: 1000 mm³.
+    let rib = "G21\nM03 S10000\nG00 X-10 Y22 Z1\nG01 Z-5 F500\nX110\nG00 Z1\nX-10 Y28\nG01 Z-5\nX110\nG00 Z5\nM30\n";
+    let c = compare(rib, "4");
+    assert!((c.left.volume - 1000.0).abs() / 1000.0 < 0.02, "{:?}", c.left);
+    assert!((c.left.worst - 5.0).abs() < 1e-5 && c.gouge.area == 0.0, "{c:?}");
+}
+
+#[test]
+fn a_finishing_program_after_its_roughing_is_judged_against_what_roughing_left() {
+    let config = Config::from_toml(
+        "units = \"mm\"\n[stock]\nsize = [100, 50, 20]\norigin = [0, 0, 20]\n\
+         [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\nflute_length = 10\n",
+    )
+    .unwrap();
+    // Roughing: a slot along Y20 from X20 to X40, 4.5 mm deep in two passes.
+    let rough = "G21\nM03 S10000\nG00 X20 Y20 Z1\nG01 Z-2 F200\nX40\nZ-4.5\nX20\nG00 Z5\nM30\n";
+    // Finishing: a rapid down to Z-4 in the slot (line 4), then the last half millimetre.
+    let finish = "G21\nM03 S10000\nG00 X30 Y20 Z1\nG00 Z-4\nG01 Z-5 F100\nX20\nX40\nG00 Z5\nM30\n";
+    let program = |name, text| Program::new(Source::text(name, ".", text), config.clone());
+    let cell = Resolution { cell: Some(0.1), ..Resolution::default() };
+    let messages = |verdict: &ger_check::Verdict| -> Vec<String> {
+        verdict.findings.iter().map(|f| format!("{}: {}", f.diagnostic.span.line, f.diagnostic.message)).collect()
+    };
+
+    // Alone, on a fresh block, its rapid goes 4 mm into the stock.
+    let mut alone = program("finish.nc", finish);
+    let (stock, _) = alone.stock(&mut Silent);
+    let (verdict, _) = alone.check(alone.simulation(stock, cell).unwrap(), &[], &mut Silent);
+    assert_eq!(messages(&verdict), ["4: rapid move (G00) cuts 4.000 mm into the stock"]);
+
+    // After the roughing, in the air it left.
+    let mut job = crate::Job::new(program("rough.nc", rough), vec![program("finish.nc", finish)]);
+    let (stock, _) = job.stock(&mut Silent);
+    let (verdicts, part) = job.check(job.simulation(stock, cell).unwrap(), &[], &mut Silent);
+    assert_eq!(verdicts.len(), 2);
+    assert!(verdicts.iter().all(|v| v.findings.is_empty()), "{:?}", verdicts.iter().map(messages).collect::<Vec<_>>());
+    // The part is both programs' cut: 5 mm deep where the finishing pass went.
+    assert!((part.lowest() + 5.0).abs() < 1e-6, "{}", part.lowest());
+    // Each summary's cut is the part as that program leaves it: 4.5 mm deep, then 5.
+    assert_eq!(verdicts[0].summary.cut_box.unwrap().min[2], -4.5);
+    assert_eq!(verdicts[1].summary.cut_box.unwrap().min[2], -5.0);
 }

@@ -1,5 +1,6 @@
 //! The 3D display: the cut stock lit and shaded from any direction, with
-//! an optional toolpath drawn over it; and the toolpath alone.
+//! the fixtures that hold it and an optional toolpath drawn over it; and
+//! the toolpath alone.
 //!
 //! An orthographic camera on a sphere around the part: azimuth turns it
 //! about Z (0 looks from the front, -Y, towards +Y; 90 from the right),
@@ -9,7 +10,7 @@
 
 use super::mesh::{normal, Mesh};
 use super::{Image, WHITE};
-use ger_sim::{HeightField, Point, Segment};
+use ger_sim::{HeightField, Point, Segment, Solid};
 
 /// Uncut stock.
 pub const STOCK: [u8; 3] = [222, 194, 146];
@@ -17,6 +18,8 @@ pub const STOCK: [u8; 3] = [222, 194, 146];
 pub const CUT: [u8; 3] = [156, 184, 222];
 pub const FEED: [u8; 3] = [20, 60, 200];
 pub const RAPID: [u8; 3] = [225, 40, 30];
+/// Fixtures (`[[fixtures]]`): what the tool must not touch.
+pub const FIXTURE: [u8; 3] = [120, 200, 90];
 
 /// Where the camera looks from, and the picture's size.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -98,10 +101,15 @@ impl Projection {
     }
 }
 
-/// The lit stock, `camera.width` x `camera.height`, and the projection used.
-pub fn render(field: &HeightField, camera: &Camera) -> (Image, Projection) {
+/// The lit stock and `fixtures`, `camera.width` x `camera.height`, and the projection used.
+pub fn render(field: &HeightField, fixtures: &[Solid], camera: &Camera) -> (Image, Projection) {
     let stock = field.stock;
-    let projection = Projection::fit(camera, stock.min, stock.max);
+    let (mut lo, mut hi) = (stock.min, stock.max);
+    for fixture in fixtures {
+        let (a, b) = fixture.bounds();
+        (lo, hi) = (lo.min(a), hi.max(b));
+    }
+    let projection = Projection::fit(camera, lo, hi);
     const SS: u32 = 2;
     let (w, h) = (camera.width * SS, camera.height * SS);
     let fine = projection.scaled(SS as f64);
@@ -112,19 +120,25 @@ pub fn render(field: &HeightField, camera: &Camera) -> (Image, Projection) {
         l / l.length()
     };
     let cut_below = field.top() - (field.top() - field.bottom()) * 1e-6;
-    let mesh = Mesh::new(field);
-    mesh.for_each(|tri| {
+    let mut draw = |tri: [Point; 3], base: [u8; 3]| {
         let mut n = normal(tri[0], tri[1], tri[2]);
         if n.dot(fine.toward) < 0.0 {
             n = -n;
         }
         let lit = 0.3 + 0.7 * n.dot(light).max(0.0);
-        let cut = tri.iter().any(|p| p[2] < cut_below) && n[2].abs() > 1e-3 || tri.iter().all(|p| p[2] < cut_below);
-        let base = if cut { CUT } else { STOCK };
         let shade = base.map(|c| (c as f64 * lit).round().min(255.0) as u8);
         let p = tri.map(|v| fine.project(v));
         raster(&mut colour, &mut depth, w, h, p, shade);
+    };
+    let mesh = Mesh::new(field);
+    mesh.for_each(|tri| {
+        let n = normal(tri[0], tri[1], tri[2]);
+        let cut = tri.iter().any(|p| p[2] < cut_below) && n[2].abs() > 1e-3 || tri.iter().all(|p| p[2] < cut_below);
+        draw(tri, if cut { CUT } else { STOCK });
     });
+    for fixture in fixtures {
+        solid_triangles(fixture, |tri| draw(tri, FIXTURE));
+    }
     // Average each SS x SS block.
     let mut image = Image::new(camera.width, camera.height, WHITE);
     for y in 0..camera.height {
@@ -142,6 +156,42 @@ pub fn render(field: &HeightField, camera: &Camera) -> (Image, Projection) {
         }
     }
     (image, projection)
+}
+
+/// The faces of a fixture as triangles: a box's six, a cylinder's side and ends in 64 steps.
+fn solid_triangles(solid: &Solid, mut each: impl FnMut([Point; 3])) {
+    match *solid {
+        Solid::Box { min, max } => {
+            let corner = |k: usize| {
+                Point::new(
+                    if k & 1 == 0 { min[0] } else { max[0] },
+                    if k & 2 == 0 { min[1] } else { max[1] },
+                    if k & 4 == 0 { min[2] } else { max[2] },
+                )
+            };
+            // Each face by its four corners, in order round it.
+            for face in [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]] {
+                let [a, b, c, d] = face.map(corner);
+                each([a, b, c]);
+                each([a, c, d]);
+            }
+        }
+        Solid::Cylinder { centre, radius, bottom, top } => {
+            const STEPS: usize = 64;
+            let at = |k: usize, z: f64| {
+                let angle = std::f64::consts::TAU * k as f64 / STEPS as f64;
+                Point::new(centre[0] + radius * angle.cos(), centre[1] + radius * angle.sin(), z)
+            };
+            let (low, high) = (Point::new(centre[0], centre[1], bottom), Point::new(centre[0], centre[1], top));
+            for k in 0..STEPS {
+                let (a0, a1, b0, b1) = (at(k, bottom), at(k + 1, bottom), at(k, top), at(k + 1, top));
+                each([a0, a1, b1]);
+                each([a0, b1, b0]);
+                each([low, a0, a1]);
+                each([high, b0, b1]);
+            }
+        }
+    }
 }
 
 fn raster(colour: &mut [[u8; 3]], depth: &mut [f32], w: u32, h: u32, p: [(f64, f64, f64); 3], shade: [u8; 3]) {

@@ -72,6 +72,37 @@ impl HeightField {
         Ok(HeightField { stock, nx, ny, cell, tiles_x, tiles_y, data, block_tops, tile_tops })
     }
 
+    /// Lowers each cell to `heights` (row-major, `j * nx + i`; `None`: no
+    /// material there, down to the bottom), never raising one: a stock that
+    /// starts as a casting or an earlier job's part.
+    pub fn carve(&mut self, heights: &[Option<f64>]) {
+        let bottom = self.bottom() as f32;
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let k = self.index(i, j);
+                let z = heights[j * self.nx + i].map_or(bottom, |z| (z as f32).max(bottom));
+                self.data[k] = self.data[k].min(z);
+            }
+        }
+        // The highest cell of every block and tile, again.
+        let side = TILE / BLOCK;
+        for t in 0..self.tiles_x * self.tiles_y {
+            let (i_base, j_base) = ((t % self.tiles_x) * TILE, (t / self.tiles_x) * TILE);
+            for b in 0..BLOCKS {
+                let (i0, j0) = (i_base + (b % side) * BLOCK, j_base + (b / side) * BLOCK);
+                let mut highest = f32::NEG_INFINITY;
+                for j in j0..(j0 + BLOCK).min(self.ny) {
+                    for i in i0..(i0 + BLOCK).min(self.nx) {
+                        highest = highest.max(self.data[self.index(i, j)]);
+                    }
+                }
+                self.block_tops[t * BLOCKS + b] = highest;
+            }
+            self.tile_tops[t] =
+                self.block_tops[t * BLOCKS..][..BLOCKS].iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        }
+    }
+
     /// A cell's side along Y (equal to `cell` unless the stock's Y is not a multiple of it).
     pub fn cell_y(&self) -> f64 {
         (self.stock.max[1] - self.stock.min[1]) / self.ny as f64

@@ -37,7 +37,7 @@ pub enum Geometry {
 }
 
 /// A cut's shape and place but for its height, bit for bit (see [`Cut::key`]).
-pub type Key = [u64; 11];
+pub type Key = [u64; 12];
 
 impl Cut {
     /// The line from `a` to `b`, written one way whichever way the tool goes
@@ -79,12 +79,13 @@ impl Cut {
             Geometry::Line { a, d, .. } => (0, [a[0], a[1], d[0], d[1], d[2], 0.0, 0.0], a[2]),
             Geometry::Arc { c, r, start, sweep, z0, dz } => (1, [c[0], c[1], r, start, sweep, dz, 0.0], z0),
         };
-        let (shape, slope) = match self.cutter.shape {
-            Shape::Flat => (0, 0.0),
-            Shape::Ball => (1, 0.0),
-            Shape::Cone { slope } => (2, slope),
+        let (shape, slope, flat) = match self.cutter.shape {
+            Shape::Flat => (0, 0.0, 0.0),
+            Shape::Ball => (1, 0.0, 0.0),
+            Shape::Cone { slope } => (2, slope, 0.0),
+            Shape::Frustum { slope, flat } => (3, slope, flat),
         };
-        let mut key = [kind, 0, 0, 0, 0, 0, 0, 0, self.cutter.radius.to_bits(), shape, slope.to_bits()];
+        let mut key = [kind, 0, 0, 0, 0, 0, 0, 0, self.cutter.radius.to_bits(), shape, slope.to_bits(), flat.to_bits()];
         for (k, v) in key[1..8].iter_mut().zip(g) {
             *k = v.to_bits();
         }
@@ -172,24 +173,42 @@ fn line_low(a: Point, d: Point, l2: f64, cutter: &Cutter, px: f64, py: f64) -> f
         return f64::INFINITY;
     }
     let descending = if dz < 0.0 { hi } else { lo };
+    let at = |t: f64| {
+        let (qx, qy) = (ux - t * d[0], uy - t * d[1]);
+        a[2] + t * dz + cutter.profile((qx * qx + qy * qy).sqrt().min(r))
+    };
     let t = match cutter.shape {
         Shape::Flat => descending,
         _ if dz == 0.0 => t0.clamp(lo, hi),
         // d/dt [dz t - sqrt(R^2 - e^2 - s^2 L^2)] = 0 at s = -dz sqrt(R^2 - e^2) / (L sqrt(L^2 + dz^2)).
         Shape::Ball => (t0 - dz * (r2 - e2).sqrt() / (l2.sqrt() * (l2 + dz * dz).sqrt())).clamp(lo, hi),
-        // d/dt [dz t + k sqrt(e^2 + s^2 L^2)] = 0 at s = -dz e / (L sqrt(k^2 L^2 - dz^2)),
-        // unless the move descends more steeply than the cone's side.
-        Shape::Cone { slope } => {
-            let kl2 = slope * slope * l2;
-            if kl2 <= dz * dz {
-                descending
-            } else {
-                (t0 - dz * e2.sqrt() / (l2.sqrt() * (kl2 - dz * dz).sqrt())).clamp(lo, hi)
+        Shape::Cone { slope } => cone_low(slope, e2, l2, dz, t0, descending).clamp(lo, hi),
+        // Convex, as max(flat, cone) is: its minimum is the cone's own, or an
+        // end of where the flat bottom is over P, or an end of [lo, hi].
+        Shape::Frustum { slope, flat } => {
+            let mut best = at(lo).min(at(hi)).min(at(cone_low(slope, e2, l2, dz, t0, descending).clamp(lo, hi)));
+            if e2 <= flat * flat {
+                let w = ((flat * flat - e2) / l2).sqrt();
+                best = best.min(at((t0 - w).clamp(lo, hi))).min(at((t0 + w).clamp(lo, hi)));
             }
+            return best;
         }
     };
-    let (qx, qy) = (ux - t * d[0], uy - t * d[1]);
-    a[2] + t * dz + cutter.profile((qx * qx + qy * qy).sqrt().min(r))
+    at(t)
+}
+
+/// Where a cone rising `slope` per unit of radius goes lowest over P along a
+/// line (unclamped): d/dt [dz t + k sqrt(e^2 + s^2 L^2)] = 0 at
+/// s = -dz e / (L sqrt(k^2 L^2 - dz^2)), unless the move descends more
+/// steeply than the cone's side.
+#[inline(always)]
+fn cone_low(slope: f64, e2: f64, l2: f64, dz: f64, t0: f64, descending: f64) -> f64 {
+    let kl2 = slope * slope * l2;
+    if kl2 <= dz * dz {
+        descending
+    } else {
+        t0 - dz * e2.sqrt() / (l2.sqrt() * (kl2 - dz * dz).sqrt())
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -246,7 +265,13 @@ mod tests {
         best
     }
 
-    const SHAPES: [Shape; 3] = [Shape::Flat, Shape::Ball, Shape::Cone { slope: 0.6 }];
+    const SHAPES: [Shape; 5] = [
+        Shape::Flat,
+        Shape::Ball,
+        Shape::Cone { slope: 0.6 },
+        Shape::Frustum { slope: 0.6, flat: 0.3 },
+        Shape::Frustum { slope: 3.0, flat: 0.5 },
+    ];
 
     #[test]
     fn lines_match_a_dense_search() {
@@ -271,9 +296,13 @@ mod tests {
 
     #[test]
     fn arcs_match_a_dense_search() {
-        for (shape, dz) in
-            [(Shape::Flat, -1.0), (Shape::Flat, 0.7), (Shape::Ball, 0.0), (Shape::Cone { slope: 0.6 }, 0.0)]
-        {
+        for (shape, dz) in [
+            (Shape::Flat, -1.0),
+            (Shape::Flat, 0.7),
+            (Shape::Ball, 0.0),
+            (Shape::Cone { slope: 0.6 }, 0.0),
+            (Shape::Frustum { slope: 2.0, flat: 0.2 }, 0.0),
+        ] {
             let cutter = Cutter { radius: 0.5, shape };
             for (start, sweep) in [(0.3, 2.0), (1.0, -4.0), (-2.0, TAU)] {
                 let cut = Cut {

@@ -10,6 +10,7 @@
 
 pub mod field;
 pub mod kernel;
+pub mod obstacle;
 pub mod path;
 pub mod pulses;
 pub mod tool;
@@ -22,8 +23,9 @@ use ger_core::config::{Config, Tool};
 use ger_core::diag::Diagnostic;
 use ger_core::statement::{Plane, Statement};
 use kernel::{Cut, Geometry, Key};
+pub use obstacle::{Intrusion, Solid};
 pub use path::{Move, Point, Segment, Step, Walker};
-pub use tool::{Cutter, Shape};
+pub use tool::{Cutter, Part, PartKind, Shape};
 
 /// The block of material: an axis-aligned box in machine coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,10 +37,8 @@ pub struct Stock {
 impl Stock {
     /// The stock `[stock] size/origin` describes, if it does (else a margin is wanted).
     pub fn from_config(config: &Config) -> Option<Stock> {
-        let size = config.stock.size?;
-        let origin = config.stock.origin.unwrap_or([0.0, 0.0, size[2]]);
-        let (size, origin) = (Point::from(size), Point::from(origin));
-        Some(Stock { min: -origin, max: size - origin })
+        let [min, max] = config.stock.block()?;
+        Some(Stock { min: Point::from(min), max: Point::from(max) })
     }
 
     pub fn size(&self) -> Point {
@@ -120,6 +120,15 @@ impl CutBounds {
             widen(&mut lo, &mut hi);
         }
         grow(&mut self.cut, lo, hi);
+    }
+
+    /// What `other` adds: the bounds of both (of the programs of a job).
+    pub fn merge(&mut self, other: &CutBounds) {
+        for (mine, theirs) in [(&mut self.cut, other.cut), (&mut self.all, other.all)] {
+            if let Some((lo, hi)) = theirs {
+                grow(mine, lo, hi);
+            }
+        }
     }
 
     /// The stock: the box of the cut plus `margin` on each side, top at Z=0.
@@ -230,6 +239,8 @@ pub struct Simulation {
     field: HeightField,
     frame: Frame,
     batch: Vec<Cut>,
+    /// What each cut of the batch is for.
+    roles: Vec<Role>,
     /// The batch's (tile, cut) pairs, in the order the cuts came.
     entries: Vec<(u32, u32)>,
     /// How finely arcs that are not cut exactly are split into lines.
@@ -255,6 +266,31 @@ pub struct Contact {
     pub depth: f32,
     /// How far under the stock's bottom the tool went, over the stock (0 if it did not).
     pub below: f32,
+    /// The deepest a guard (see [`Simulation::inspect`]) went into the
+    /// material the move's cut left, and which guard (by its index).
+    pub clash: Option<(f32, u8)>,
+    /// The same for the guards that only warn ([`Guard::near`]).
+    pub near: Option<(f32, u8)>,
+}
+
+/// A part of the tool that may not touch the stock, for [`Simulation::inspect`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Guard {
+    /// Its underside, `base` above the tip.
+    pub cutter: Cutter,
+    pub base: f64,
+    /// Reported in [`Contact::near`] rather than [`Contact::clash`].
+    pub near: bool,
+}
+
+/// What a cut of a batch is for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Role {
+    /// It removes material.
+    Cut,
+    /// It only looks: guard `n` of its move, whose material it must not
+    /// meet, and whether that guard only warns.
+    Guard(u8, bool),
 }
 
 /// What a tile needs to know of the field.
@@ -305,6 +341,11 @@ impl Simulation {
             return Err(Refusal::TooBig(TooBig { needed, limit, finest: stock.finest_cell(limit) }));
         }
         let field = HeightField::new(stock, cell).map_err(|_| Refusal::OutOfMemory { needed })?;
+        Ok(Simulation::resume(field))
+    }
+
+    /// Cutting `field` on, as an earlier simulation left it (the next program of a job).
+    pub fn resume(field: HeightField) -> Simulation {
         let frame = Frame {
             x0: field.stock.min[0],
             y0: field.stock.min[1],
@@ -315,18 +356,19 @@ impl Simulation {
             floor: field.stock.min[2] as f32,
             clamp: field.stock.min[2] as f32,
         };
-        Ok(Simulation {
+        Simulation {
             tolerance: field.cell / 20.0,
             field,
             frame,
             batch: Vec::with_capacity(BATCH),
+            roles: Vec::with_capacity(BATCH),
             entries: Vec::new(),
             moves: 0,
             recent: vec![None; RECENT],
             tags: None,
             contacts: Vec::new(),
             settled_below: 0,
-        })
+        }
     }
 
     /// Reports, for every move cut with [`Simulation::cut_tagged`], how deep it
@@ -342,6 +384,11 @@ impl Simulation {
 
     pub fn field(&self) -> &HeightField {
         &self.field
+    }
+
+    /// Starts from material shaped as `heights` (see [`HeightField::carve`]).
+    pub fn carve(&mut self, heights: &[Option<f64>]) {
+        self.field.carve(heights);
     }
 
     /// Moves simulated so far.
@@ -365,12 +412,36 @@ impl Simulation {
     /// it is above or beside the stock, over material already cut lower, or
     /// a repeat of a cut made lately (or of one made lower).
     pub fn cut_tagged(&mut self, segment: &Segment, cutter: &Cutter, tag: u32) -> bool {
+        self.inspect(segment, cutter, &[], tag)
+    }
+
+    /// [`Simulation::cut_tagged`], and when inspecting, each of `guards` (at
+    /// most 256) carried along the move, reported in [`Contact::clash`] where
+    /// the material the move's cut leaves is above it. A guard never cuts: it
+    /// is judged in program order like a cut, after its move's. False when
+    /// neither the cut nor a guard can meet material.
+    pub fn inspect(&mut self, segment: &Segment, cutter: &Cutter, guards: &[Guard], tag: u32) -> bool {
         self.moves += 1;
+        let mut any = self.push_segment(segment, cutter, 0.0, Role::Cut, tag);
+        if self.tags.is_some() {
+            for (n, guard) in guards.iter().enumerate().take(256) {
+                any |= self.push_segment(segment, &guard.cutter, guard.base, Role::Guard(n as u8, guard.near), tag);
+            }
+        }
+        if let Some(tags) = &self.tags {
+            // The move is all in: what is not waiting in the batch has reported.
+            self.settled_below = tags.first().copied().unwrap_or(tag + 1);
+        }
+        any
+    }
+
+    /// Batches `cutter` along `segment` raised by `lift`; false if it can reach no material.
+    fn push_segment(&mut self, segment: &Segment, cutter: &Cutter, lift: f64, role: Role, tag: u32) -> bool {
         let (lo, hi) = segment.bounds();
         let stock = &self.field.stock;
         let r = cutter.radius;
         // Above the stock, or beside it: nothing to cut.
-        if lo[2] >= stock.max[2]
+        if lo[2] + lift >= stock.max[2]
             || lo[0] - r > stock.max[0]
             || hi[0] + r < stock.min[0]
             || lo[1] - r > stock.max[1]
@@ -378,54 +449,21 @@ impl Simulation {
         {
             return false;
         }
-        let cuts = match *segment {
-            Segment::Line { from, to } => self.push(Cut::line(from, to, *cutter), tag),
-            Segment::Arc { from, to, centre, plane: Plane::XY, radius, start, sweep }
-                if from[2] == to[2] || cutter.shape == Shape::Flat =>
-            {
-                let cut = Cut {
-                    geometry: Geometry::Arc {
-                        c: [centre[0], centre[1]],
-                        r: radius,
-                        start,
-                        sweep,
-                        z0: from[2],
-                        dz: to[2] - from[2],
-                    },
-                    cutter: *cutter,
-                    lo: [lo[0] - r, lo[1] - r],
-                    hi: [hi[0] + r, hi[1] + r],
-                };
-                self.push(cut, tag)
-            }
-            // Helices cut by ball and cone tools, and arcs in XZ and YZ: short lines
-            // within a twentieth of a cell of the arc, each cut exactly.
-            Segment::Arc { .. } => {
-                let n = segment.pieces(self.tolerance);
-                let mut a = segment.from();
-                let mut any = false;
-                for k in 1..=n {
-                    let b = if k == n { segment.to() } else { segment.at(k as f64 / n as f64) };
-                    any |= self.push(Cut::line(a, b, *cutter), tag);
-                    a = b;
-                }
-                any
-            }
-        };
-        if let Some(tags) = &self.tags {
-            // The move is all in: what is not waiting in the batch has reported.
-            self.settled_below = tags.first().copied().unwrap_or(tag + 1);
-        }
-        cuts
+        let mut any = false;
+        each_cut(segment, cutter, lift, self.tolerance, |cut| any |= self.push(cut, role, tag));
+        any
     }
 
     /// Bins `cut` into the tiles it may lower; false if there are none.
-    fn push(&mut self, cut: Cut, tag: u32) -> bool {
-        let (key, z) = cut.key();
-        let slot = &mut self.recent[recent_slot(&key)];
-        match slot {
-            Some((seen, lowest)) if *seen == key && *lowest <= z => return false,
-            _ => *slot = Some((key, z)),
+    fn push(&mut self, cut: Cut, role: Role, tag: u32) -> bool {
+        // A guard removes nothing, so it is no cut's repeat, nor a cut its.
+        if role == Role::Cut {
+            let (key, z) = cut.key();
+            let slot = &mut self.recent[recent_slot(&key)];
+            match slot {
+                Some((seen, lowest)) if *seen == key && *lowest <= z => return false,
+                _ => *slot = Some((key, z)),
+            }
         }
         let frame = &self.frame;
         let (Some((i0, i1)), Some((j0, j1))) = (frame.columns(cut.lo[0], cut.hi[0]), frame.rows(cut.lo[1], cut.hi[1]))
@@ -448,6 +486,7 @@ impl Simulation {
             return false;
         }
         self.batch.push(cut);
+        self.roles.push(role);
         if let Some(tags) = &mut self.tags {
             tags.push(tag);
         }
@@ -481,6 +520,7 @@ impl Simulation {
         }
         self.entries.clear();
         let batch = &self.batch;
+        let roles = &self.roles;
         let order = &order;
         let tiles = field
             .data
@@ -505,8 +545,19 @@ impl Simulation {
                     .map(|(mut tile, cuts)| {
                         let mut touched = Vec::new();
                         for &k in cuts {
-                            let touch = tile.cut(&batch[k as usize], &frame);
-                            if touch.depth > 0.0 || touch.below > 0.0 {
+                            let cut = &batch[k as usize];
+                            let touch = match roles[k as usize] {
+                                Role::Cut => tile.cut(cut, &frame),
+                                Role::Guard(n, near) => {
+                                    let clash = tile.clash(cut, &frame).map(|c| (c, n));
+                                    if near {
+                                        Touch { near: clash, ..Touch::default() }
+                                    } else {
+                                        Touch { clash, ..Touch::default() }
+                                    }
+                                }
+                            };
+                            if touch.depth > 0.0 || touch.below > 0.0 || touch.clash.is_some() || touch.near.is_some() {
                                 touched.push((k, touch));
                             }
                         }
@@ -518,21 +569,30 @@ impl Simulation {
                     per_cut[k as usize].merge(touch);
                 }
                 for (touch, &tag) in per_cut.iter().zip(tags.iter()) {
-                    if touch.depth <= 0.0 && touch.below <= 0.0 {
+                    if touch.depth <= 0.0 && touch.below <= 0.0 && touch.clash.is_none() && touch.near.is_none() {
                         continue;
                     }
                     match self.contacts.last_mut() {
                         Some(last) if last.tag == tag => {
                             last.depth = last.depth.max(touch.depth);
                             last.below = last.below.max(touch.below);
+                            last.clash = deeper(last.clash, touch.clash);
+                            last.near = deeper(last.near, touch.near);
                         }
-                        _ => self.contacts.push(Contact { tag, depth: touch.depth, below: touch.below }),
+                        _ => self.contacts.push(Contact {
+                            tag,
+                            depth: touch.depth,
+                            below: touch.below,
+                            clash: touch.clash,
+                            near: touch.near,
+                        }),
                     }
                 }
                 tags.clear();
             }
         }
         self.batch.clear();
+        self.roles.clear();
     }
 
     /// Cuts the batch now, so that every move cut so far has reported its contact.
@@ -556,6 +616,57 @@ impl Simulation {
     }
 }
 
+/// The lowest `cutter` goes over (x, y) moving along `segment` (infinity if
+/// it never passes over it), exactly as a simulation with cells of `cell` cuts it.
+pub fn lowest_over(segment: &Segment, cutter: &Cutter, x: f64, y: f64, cell: f64) -> f64 {
+    let (lo, hi) = segment.bounds();
+    let r = cutter.radius;
+    if x < lo[0] - r || x > hi[0] + r || y < lo[1] - r || y > hi[1] + r {
+        return f64::INFINITY;
+    }
+    let mut lowest = f64::INFINITY;
+    each_cut(segment, cutter, 0.0, cell / 20.0, |cut| lowest = lowest.min(cut.low(x, y)));
+    lowest
+}
+
+/// The cuts `cutter` makes along `segment` raised by `lift`: one, or for
+/// helices cut by ball and cone tools and arcs in XZ and YZ, short lines
+/// within `tolerance` of the arc, each cut exactly.
+fn each_cut(segment: &Segment, cutter: &Cutter, lift: f64, tolerance: f64, mut each: impl FnMut(Cut)) {
+    let up = Point::new(0.0, 0.0, lift);
+    let r = cutter.radius;
+    match *segment {
+        Segment::Line { from, to } => each(Cut::line(from + up, to + up, *cutter)),
+        Segment::Arc { from, to, centre, plane: Plane::XY, radius, start, sweep }
+            if from[2] == to[2] || cutter.shape == Shape::Flat =>
+        {
+            let (lo, hi) = segment.bounds();
+            each(Cut {
+                geometry: Geometry::Arc {
+                    c: [centre[0], centre[1]],
+                    r: radius,
+                    start,
+                    sweep,
+                    z0: from[2] + lift,
+                    dz: to[2] - from[2],
+                },
+                cutter: *cutter,
+                lo: [lo[0] - r, lo[1] - r],
+                hi: [hi[0] + r, hi[1] + r],
+            })
+        }
+        Segment::Arc { .. } => {
+            let n = segment.pieces(tolerance);
+            let mut a = segment.from();
+            for k in 1..=n {
+                let b = if k == n { segment.to() } else { segment.at(k as f64 / n as f64) };
+                each(Cut::line(a + up, b + up, *cutter));
+                a = b;
+            }
+        }
+    }
+}
+
 /// Where a key lives in [`Simulation::recent`]: a multiplicative hash of its words.
 fn recent_slot(key: &Key) -> usize {
     let mut h = 0u64;
@@ -572,12 +683,25 @@ struct Touch {
     depth: f32,
     /// How far under the stock's bottom the tool reached.
     below: f32,
+    /// A guard's: how far into the material it went, and which guard.
+    clash: Option<(f32, u8)>,
+    near: Option<(f32, u8)>,
 }
 
 impl Touch {
     fn merge(&mut self, other: Touch) {
         self.depth = self.depth.max(other.depth);
         self.below = self.below.max(other.below);
+        self.clash = deeper(self.clash, other.clash);
+        self.near = deeper(self.near, other.near);
+    }
+}
+
+/// The deeper of two clashes.
+fn deeper(a: Option<(f32, u8)>, b: Option<(f32, u8)>) -> Option<(f32, u8)> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(if y.0 > x.0 { y } else { x }),
+        (x, y) => x.or(y),
     }
 }
 
@@ -590,6 +714,22 @@ struct Tile<'f> {
     top: &'f mut f32,
     i_base: usize,
     j_base: usize,
+}
+
+/// The rows of a tile a cut may reach (`j0..=j1`), and where the stock ends in it.
+struct Span {
+    j0: usize,
+    j1: usize,
+    i_end: usize,
+    j_end: usize,
+    j_base: usize,
+}
+
+impl Span {
+    /// The block rows (in the tile) the rows lie in.
+    fn block_rows(&self) -> std::ops::RangeInclusive<usize> {
+        (self.j0 - self.j_base) / BLOCK..=(self.j1 - self.j_base) / BLOCK
+    }
 }
 
 /// The cells of a block row that one row of cells takes from a cut: up to two runs of columns.
@@ -606,38 +746,12 @@ impl Tile<'_> {
         if *self.top <= floor {
             return touch;
         }
-        let j_end = (self.j_base + TILE).min(frame.ny);
-        let i_end = (self.i_base + TILE).min(frame.nx);
-        let Some((j0, j1)) = frame.rows(cut.lo[1], cut.hi[1]) else { return touch };
-        let (j0, j1) = (j0.max(self.j_base), j1.min(j_end - 1));
-        if j0 > j1 {
-            return touch;
-        }
+        let Some(span) = self.span(cut, frame) else { return touch };
+        let (i_end, j_end) = (span.i_end, span.j_end);
         let side = TILE / BLOCK;
         let mut lowered = false;
-        for bj in (j0 - self.j_base) / BLOCK..=(j1 - self.j_base) / BLOCK {
-            // Each row's runs of cells, in tile columns, and the columns of them all.
-            let mut runs: [Runs; BLOCK] = [[None; 2]; BLOCK];
-            let (mut c0, mut c1) = (usize::MAX, 0);
-            for (r, row_runs) in runs.iter_mut().enumerate() {
-                let j = self.j_base + bj * BLOCK + r;
-                if j < j0 || j > j1 {
-                    continue;
-                }
-                let y = frame.y0 + (j as f64 + 0.5) * frame.cy;
-                for (run, interval) in row_runs.iter_mut().zip(cut.row(y)) {
-                    let Some((i0, i1)) = interval.and_then(|(lo, hi)| frame.columns(lo, hi)) else { continue };
-                    let (i0, i1) = (i0.max(self.i_base), i1.min(i_end - 1));
-                    if i0 <= i1 {
-                        *run = Some((i0 - self.i_base, i1 - self.i_base));
-                        c0 = c0.min(i0 - self.i_base);
-                        c1 = c1.max(i1 - self.i_base);
-                    }
-                }
-            }
-            if c0 > c1 {
-                continue;
-            }
+        for bj in span.block_rows() {
+            let Some((runs, c0, c1)) = self.runs(cut, frame, &span, bj) else { continue };
             // The highest cell of each block of this block row: if none is above
             // the floor, the row is passed over; each block whose highest cell
             // is lowered finds its new one after.
@@ -675,6 +789,74 @@ impl Tile<'_> {
             *self.top = self.blocks.iter().copied().fold(f32::NEG_INFINITY, f32::max);
         }
         touch
+    }
+
+    /// How far into the material a guard (that removes nothing) goes: the
+    /// most any cell is above its underside; `None` where no cell is.
+    fn clash(&self, cut: &Cut, frame: &Frame) -> Option<f32> {
+        let floor = cut.floor() as f32;
+        if *self.top <= floor {
+            return None;
+        }
+        let span = self.span(cut, frame)?;
+        let side = TILE / BLOCK;
+        let mut worst: Option<f32> = None;
+        for bj in span.block_rows() {
+            let Some((runs, c0, c1)) = self.runs(cut, frame, &span, bj) else { continue };
+            if self.blocks[bj * side..][c0 / BLOCK..=c1 / BLOCK].iter().all(|&top| top <= floor) {
+                continue;
+            }
+            for (r, row_runs) in runs.iter().enumerate() {
+                let y = frame.y0 + ((self.j_base + bj * BLOCK + r) as f64 + 0.5) * frame.cy;
+                let row = &self.cells[(bj * BLOCK + r) * TILE..][..TILE];
+                for &(i0, i1) in row_runs.iter().flatten() {
+                    for (i, &cell) in row.iter().enumerate().take(i1 + 1).skip(i0) {
+                        if cell <= floor {
+                            continue;
+                        }
+                        let x = frame.x0 + ((self.i_base + i) as f64 + 0.5) * frame.cx;
+                        let above = cell - cut.low(x, y) as f32;
+                        if above > 0.0 && worst.is_none_or(|w| above > w) {
+                            worst = Some(above);
+                        }
+                    }
+                }
+            }
+        }
+        worst
+    }
+
+    /// The rows of the tile `cut` may reach, if any.
+    fn span(&self, cut: &Cut, frame: &Frame) -> Option<Span> {
+        let j_end = (self.j_base + TILE).min(frame.ny);
+        let i_end = (self.i_base + TILE).min(frame.nx);
+        let (j0, j1) = frame.rows(cut.lo[1], cut.hi[1])?;
+        let (j0, j1) = (j0.max(self.j_base), j1.min(j_end - 1));
+        (j0 <= j1).then_some(Span { j0, j1, i_end, j_end, j_base: self.j_base })
+    }
+
+    /// Each row's runs of cells `cut` reaches in block row `bj`, in tile
+    /// columns, and the columns of them all; `None` when there are none.
+    fn runs(&self, cut: &Cut, frame: &Frame, span: &Span, bj: usize) -> Option<([Runs; BLOCK], usize, usize)> {
+        let mut runs: [Runs; BLOCK] = [[None; 2]; BLOCK];
+        let (mut c0, mut c1) = (usize::MAX, 0);
+        for (r, row_runs) in runs.iter_mut().enumerate() {
+            let j = self.j_base + bj * BLOCK + r;
+            if j < span.j0 || j > span.j1 {
+                continue;
+            }
+            let y = frame.y0 + (j as f64 + 0.5) * frame.cy;
+            for (run, interval) in row_runs.iter_mut().zip(cut.row(y)) {
+                let Some((i0, i1)) = interval.and_then(|(lo, hi)| frame.columns(lo, hi)) else { continue };
+                let (i0, i1) = (i0.max(self.i_base), i1.min(span.i_end - 1));
+                if i0 <= i1 {
+                    *run = Some((i0 - self.i_base, i1 - self.i_base));
+                    c0 = c0.min(i0 - self.i_base);
+                    c1 = c1.max(i1 - self.i_base);
+                }
+            }
+        }
+        (c0 <= c1).then_some((runs, c0, c1))
     }
 
     /// The highest cell of block (bi, bj) that lies in the stock.

@@ -9,7 +9,7 @@ use ger_core::passes::testing;
 
 fn config(kind: ToolKind, diameter: f64, tip_angle: Option<f64>) -> Config {
     Config {
-        tools: vec![Tool { number: 1, kind, diameter, flute_length: None, tip_angle }],
+        tools: vec![Tool { tip_angle, ..Tool::new(1, kind, diameter) }],
         stock: StockConfig { size: Some([2.0, 1.0, 0.5]), origin: Some([0.0, 0.0, 0.5]), ..StockConfig::default() },
         ..Config::default()
     }
@@ -276,4 +276,70 @@ fn a_repeated_cut_removes_nothing_and_reports_nothing_but_a_deeper_one_cuts() {
     let field = sim.finish();
     let centre = field.get(50, 50);
     assert!((centre + 0.4).abs() < 1e-6, "{centre}");
+}
+
+#[test]
+fn a_guard_meets_what_the_moves_before_left_and_cuts_nothing() {
+    let stock = Stock { min: Point::new(0.0, 0.0, -1.0), max: Point::new(1.0, 1.0, 0.0) };
+    let cell = 0.01;
+    let mut sim = Simulation::new(stock, cell, 1 << 30).unwrap().inspecting();
+    let flat = |radius| Cutter { radius, shape: Shape::Flat };
+    let plunge = Segment::Line { from: Point::new(0.5, 0.5, 0.5), to: Point::new(0.5, 0.5, -0.5) };
+    // A 0.2 shank 0.3 above a 0.1 cutter's tip; a holder 0.6 above it; the shank grown by 0.15 to warn.
+    let guards = [
+        Guard { cutter: flat(0.2), base: 0.3, near: false },
+        Guard { cutter: flat(0.5), base: 0.6, near: false },
+        Guard { cutter: flat(0.35), base: 0.15, near: true },
+    ];
+    assert!(sim.inspect(&plunge, &flat(0.1), &[], 0));
+    // The same plunge again cuts nothing, but its shank's ring (0.1 to 0.2 from
+    // the axis) goes 0.2 into the top; the holder stays 0.1 above it; the grown shank 0.35 in.
+    assert!(sim.inspect(&plunge, &flat(0.1), &guards, 1));
+    // A wider cutter clears the ring: the shank then meets nothing, the grown one still the top past 0.25.
+    assert!(sim.inspect(&plunge, &flat(0.25), &[], 2));
+    assert!(sim.inspect(&plunge, &flat(0.1), &guards, 3));
+    sim.settle();
+    let contacts = sim.take_contacts();
+    let of = |tag| contacts.iter().find(|c| c.tag == tag).copied();
+    let one = of(1).expect("move 1's guards report");
+    assert_eq!((one.depth, one.clash.map(|c| c.1), one.near.map(|c| c.1)), (0.0, Some(0), Some(2)));
+    assert!((one.clash.unwrap().0 - 0.2).abs() < 1e-6, "{one:?}");
+    assert!((one.near.unwrap().0 - 0.35).abs() < 1e-6, "{one:?}");
+    let three = of(3).expect("move 3's grown shank reports");
+    assert_eq!((three.clash, three.near.map(|c| c.1)), (None, Some(2)));
+    let field = sim.finish();
+    // The guards cut nothing: the cell 0.15 from the axis was cut by move 2 only.
+    let (i, j) = (((0.5 + 0.15) / cell) as usize, (0.5 / cell) as usize);
+    assert!((field.get(i, j) + 0.5).abs() < 1e-6);
+}
+
+#[test]
+fn a_carved_stock_is_cut_from_where_it_was_carved_to() {
+    // A 1 x 1 block, its left half carved down to -0.5 (a casting's step), nothing at all over x > 0.9.
+    let stock = Stock { min: Point::new(0.0, 0.0, -1.0), max: Point::new(1.0, 1.0, 0.0) };
+    let mut sim = Simulation::new(stock, 0.01, 1 << 30).unwrap().inspecting();
+    let (nx, ny) = (sim.field().nx, sim.field().ny);
+    let heights: Vec<Option<f64>> = (0..nx * ny)
+        .map(|k| {
+            let x = sim.field().centre(k % nx, k / nx)[0];
+            if x > 0.9 {
+                None
+            } else {
+                Some(if x < 0.5 { -0.5 } else { 0.0 })
+            }
+        })
+        .collect();
+    sim.carve(&heights);
+    let cutter = Cutter { radius: 0.1, shape: Shape::Flat };
+    let plunge = |x: f64, z: f64| Segment::Line { from: Point::new(x, 0.5, 0.5), to: Point::new(x, 0.5, z) };
+    // Down to -0.3 over the step: nothing there; over the top, 0.3 of material.
+    sim.cut_tagged(&plunge(0.25, -0.3), &cutter, 0);
+    sim.cut_tagged(&plunge(0.7, -0.3), &cutter, 1);
+    sim.settle();
+    let contacts: Vec<(u32, f32)> = sim.take_contacts().iter().map(|c| (c.tag, c.depth)).collect();
+    assert_eq!(contacts.len(), 1);
+    assert_eq!(contacts[0].0, 1);
+    assert!((contacts[0].1 - 0.3).abs() < 1e-6, "{contacts:?}");
+    let field = sim.finish();
+    assert_eq!((field.get(95, 50), field.get(25, 50)), (-1.0, -0.5));
 }

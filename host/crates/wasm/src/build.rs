@@ -26,6 +26,8 @@ pub type Progress = Box<dyn FnMut(&str)>;
 const WIT: &str = include_str!("../../../../wit/wizard.wit");
 const WORLD: &str = "ger:wizard/wizard";
 const REQUIREMENTS: &str = include_str!("toolchain/requirements.txt");
+/// The Python face of the SDK, put beside every Python wizard built.
+const PYTHON_SDK: &str = include_str!("../../../../wizard-sdk/python/ger_wizard.py");
 const PACKAGE_JSON: &str = include_str!("toolchain/package.json");
 const PACKAGE_LOCK: &str = include_str!("toolchain/package-lock.json");
 const RUST_TARGET: &str = "wasm32-wasip2";
@@ -92,6 +94,11 @@ pub fn stale(source: &Source, wasm: &Path) -> bool {
     let mut dirs = vec![source.dir.clone()];
     if source.language == Language::Rust {
         dirs.extend(path_dependencies(&source.dir));
+    }
+    // Built with another ger's Python SDK, or none.
+    let python_sdk = wasm.with_file_name("target").join("ger").join("python").join("ger_wizard.py");
+    if source.language == Language::Python && std::fs::read_to_string(python_sdk).ok().as_deref() != Some(PYTHON_SDK) {
+        return true;
     }
     dirs.iter().any(|dir| newest(dir).is_some_and(|t| t > built))
 }
@@ -291,12 +298,16 @@ fn build_python(source: &Source, ger: &Path, out: &Path, progress: &mut Progress
         write_if_changed(&pins, REQUIREMENTS)?;
     }
     let wit = wit_dir(ger)?;
+    let sdk = ger.join("python");
+    write_if_changed(&sdk.join("ger_wizard.py"), PYTHON_SDK)?;
     run(
         Command::new(&tool)
             .arg("-d")
             .arg(&wit)
             .args(["-w", WORLD, "componentize", "-p"])
             .arg(&source.dir)
+            .arg("-p")
+            .arg(&sdk)
             .arg("app")
             .arg("-o")
             .arg(out),
@@ -336,4 +347,45 @@ fn build_javascript(source: &Source, ger: &Path, out: &Path, progress: &mut Prog
         "",
     )?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `wit/wizard.wit` names: the host's functions and the statement's cases.
+    fn contract() -> (Vec<String>, Vec<String>) {
+        let mut resolve = wit_parser::Resolve::new();
+        resolve.push_file(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../wit/wizard.wit")).unwrap();
+        let interface = |name: &str| {
+            let found = resolve.interfaces.iter().find(|(_, i)| i.name.as_deref() == Some(name));
+            found.unwrap_or_else(|| panic!("no interface {name}")).1
+        };
+        let functions = interface("host").functions.keys().cloned().collect();
+        let statement = interface("types").types["statement"];
+        let wit_parser::TypeDefKind::Variant(variant) = &resolve.types[statement].kind else {
+            panic!("statement is a variant")
+        };
+        (functions, variant.cases.iter().map(|case| case.name.clone()).collect())
+    }
+
+    #[test]
+    fn the_python_sdk_offers_all_the_contract_does() {
+        let (functions, cases) = contract();
+        assert_eq!(functions.len(), 6, "{functions:?}");
+        for function in functions {
+            let python = function.replace('-', "_");
+            assert!(
+                PYTHON_SDK.contains(&format!("def {python}(")) && PYTHON_SDK.contains(&format!("_host.{python}(")),
+                "ger_wizard.py has no wrapper of the host's `{function}`"
+            );
+        }
+        for case in cases {
+            let class = format!("Statement_{}{}", case[..1].to_uppercase(), &case[1..]);
+            assert!(PYTHON_SDK.contains(&class), "ger_wizard.py never makes a {class}");
+        }
+        for export in ["def describe(self)", "def expand(self, args, state)"] {
+            assert!(PYTHON_SDK.contains(export), "ger_wizard.py's export lacks `{export}`");
+        }
+    }
 }

@@ -7,10 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::build::Source;
 
-/// The key a name is looked up by.
-pub fn key(name: &str) -> String {
-    name.chars().filter(|c| !matches!(c, '-' | '_')).flat_map(char::to_lowercase).collect()
-}
+pub use ger_core::wizard::key;
 
 /// One wizard: its component, and the folder it is built from, if any.
 #[derive(Clone, Debug)]

@@ -32,7 +32,9 @@ use std::time::Duration;
 use rand::{Rng, SeedableRng};
 use sha2::{Digest, Sha256};
 use wasmtime::component::{HasSelf, Linker, ResourceTable};
-use wasmtime::{Config, Engine, InstanceAllocationStrategy, PoolingAllocationConfig, ResourceLimiter, Store, Trap};
+use wasmtime::{
+    Config, Enabled, Engine, InstanceAllocationStrategy, PoolingAllocationConfig, ResourceLimiter, Store, Trap,
+};
 use wasmtime_wasi::p2::pipe::MemoryOutputPipe;
 use wasmtime_wasi::{HostMonotonicClock, HostWallClock, WasiCtx, WasiCtxBuilder, WasiCtxView, WasiView};
 
@@ -43,8 +45,8 @@ use crate::render::render;
 use ger_core::config::{self, ToolKind};
 use ger_core::diag::{clip, Diagnostic, Span};
 use ger_core::state::{CallState, Spindle};
-use ger_core::statement::{Distance, Plane, Statement, Units, WizardArg};
-use ger_core::wizard::{shown_name, wizard_help, Call, Wizards, SHOWN_MESSAGE};
+use ger_core::statement::{Distance, Plane, Units, WizardArg};
+use ger_core::wizard::{shown_name, wizard_help, Call, Expansion, Wizards, SHOWN_MESSAGE};
 
 pub mod bindings {
     //! Rust types for `wit/wizard.wit`, host side.
@@ -56,11 +58,27 @@ pub mod bindings {
     });
 }
 
+mod first {
+    //! The host side of `ger:wizard@0.1.0` (`wit/0.1.0`), for the wizards
+    //! built against it: its `describe` and `expand` take the same types
+    //! as today's, so only its `host` interface is linked apart.
+    wasmtime::component::bindgen!({
+        path: "../../../wit/0.1.0",
+        world: "ger:wizard/wizard",
+        imports: { "ger:wizard/host.log": trappable },
+    });
+}
+
 use bindings::ger::wizard::{host, types as wit};
 use bindings::{Wizard, WizardPre};
 
 /// How often the epoch ticks: the granularity of the time limits.
 const TICK: Duration = Duration::from_millis(10);
+
+/// How much of a pooled slot's memory and tables is reset by copying the
+/// initial image back instead of by madvise: a Rust wizard's stack and data
+/// fit, so a call neither faults its pages in again nor pays the syscall.
+const KEEP_RESIDENT: usize = 2 << 20;
 
 /// `time` in ticks, rounded up.
 fn ticks(time: Duration) -> u64 {
@@ -145,7 +163,16 @@ struct Guest {
     tools: Arc<Vec<config::Tool>>,
     /// Machine units -> the program's units at the call.
     to_program: f64,
+    machine_units: Units,
+    /// The stock at the call, in its coordinates and units.
+    stock: Option<wit::Bounds>,
+    /// The warnings the call gave (the first [`SHOWN_WARNINGS`]), and how many in all.
+    warnings: Vec<String>,
+    warned: usize,
 }
+
+/// The most warnings one call shows; the rest are counted.
+const SHOWN_WARNINGS: usize = 16;
 
 impl WasiView for Guest {
     fn ctx(&mut self) -> WasiCtxView<'_> {
@@ -177,6 +204,52 @@ impl host::Host for Guest {
     fn find_tool(&mut self, number: u32) -> Option<wit::Tool> {
         let tool = self.tools.iter().find(|t| t.number == number)?;
         Some(tool_to_wit(tool, self.to_program))
+    }
+
+    fn tools(&mut self) -> Vec<wit::Tool> {
+        let mut tools: Vec<_> = self.tools.iter().map(|tool| tool_to_wit(tool, self.to_program)).collect();
+        tools.sort_by_key(|tool| tool.number);
+        tools
+    }
+
+    fn stock(&mut self) -> Option<wit::Bounds> {
+        self.stock
+    }
+
+    fn machine_units(&mut self) -> wit::Units {
+        units_to_wit(self.machine_units)
+    }
+
+    fn warn(&mut self, message: String) {
+        self.warned += 1;
+        if self.warnings.len() < SHOWN_WARNINGS {
+            self.warnings.push(clip(&message, SHOWN_MESSAGE).into_owned());
+        }
+    }
+}
+
+impl first::ger::wizard::types::Host for Guest {}
+
+impl first::ger::wizard::host::Host for Guest {
+    fn log(&mut self, message: String) -> wasmtime::Result<()> {
+        host::Host::log(self, message)
+    }
+
+    fn find_tool(&mut self, number: u32) -> Option<first::ger::wizard::types::Tool> {
+        use first::ger::wizard::types::{Tool, ToolKind};
+        let tool = host::Host::find_tool(self, number)?;
+        Some(Tool {
+            number: tool.number,
+            kind: match tool.kind {
+                wit::ToolKind::Endmill => ToolKind::Endmill,
+                wit::ToolKind::Ballmill => ToolKind::Ballmill,
+                wit::ToolKind::Drill => ToolKind::Drill,
+                wit::ToolKind::CenterDrill => ToolKind::CenterDrill,
+            },
+            diameter: tool.diameter,
+            flute_length: tool.flute_length,
+            tip_angle: tool.tip_angle,
+        })
     }
 }
 
@@ -236,6 +309,8 @@ struct Leftovers {
     log_overflowed: bool,
     /// The run's deadline was what was left of the program's time, not a call's.
     program_deadline: bool,
+    warnings: Vec<String>,
+    warned: usize,
 }
 
 /// The error of a call not run because the program's wizard time is spent.
@@ -273,6 +348,7 @@ impl WasmWizards {
         let mut pooled = wasm_config.clone();
         let mut pool = PoolingAllocationConfig::default();
         pool.total_component_instances(4).total_core_instances(32).total_memories(8).total_tables(16);
+        pool.linear_memory_keep_resident(KEEP_RESIDENT).table_keep_resident(KEEP_RESIDENT).pagemap_scan(Enabled::Auto);
         pooled.allocation_strategy(InstanceAllocationStrategy::Pooling(pool));
         // Engine::new can only fail on a bad configuration or a refused reservation.
         let engine =
@@ -280,6 +356,8 @@ impl WasmWizards {
         let mut linker = Linker::new(&engine);
         wasmtime_wasi::p2::add_to_linker_sync(&mut linker).expect("WASI links once");
         Wizard::add_to_linker::<Guest, HasSelf<Guest>>(&mut linker, |guest| guest).expect("the host links once");
+        first::Wizard::add_to_linker::<Guest, HasSelf<Guest>>(&mut linker, |guest| guest)
+            .expect("the host of 0.1.0 links once");
         WasmWizards {
             dir: dir.to_path_buf(),
             engine,
@@ -321,7 +399,7 @@ impl WasmWizards {
             return Ok(description.clone());
         }
         let seed = seed(&loaded.digest, "describe");
-        let (result, leftovers) = self.run(loaded, 1.0, seed, |store, wizard| wizard.call_describe(store));
+        let (result, leftovers) = self.run(loaded, None, seed, |store, wizard| wizard.call_describe(store));
         let description = result.map_err(|err| self.failure(name, span, &err, leftovers))?;
         Ok(loaded.description.get_or_init(|| description).clone())
     }
@@ -391,26 +469,33 @@ impl WasmWizards {
     fn run<R>(
         &mut self,
         loaded: &Loaded,
-        to_program: f64,
+        state: Option<&CallState>,
         seed: [u8; 32],
         f: impl FnOnce(&mut Store<Guest>, &Wizard) -> wasmtime::Result<R>,
     ) -> (wasmtime::Result<R>, Leftovers) {
         self.start_ticker();
+        let to_program = state.map_or(1.0, |state| self.machine_units.factor_to(state.units));
         let stdout = MemoryOutputPipe::new(self.limits.output);
         let stderr = MemoryOutputPipe::new(self.limits.output);
         let call = ticks(self.limits.time);
         let left = ticks(self.limits.program_time).saturating_sub(self.spent);
         let program_deadline = left < call;
-        let leftovers = |log, memory_refused, log_overflowed| Leftovers {
-            stdout: stdout.clone(),
-            stderr: stderr.clone(),
-            log,
-            memory_refused,
-            log_overflowed,
-            program_deadline,
+        let leftovers = |guest: Option<Guest>| {
+            let guest = guest.map(|g| (g.log, g.memory.refused, g.log_overflowed, g.warnings, g.warned));
+            let (log, memory_refused, log_overflowed, warnings, warned) = guest.unwrap_or_default();
+            Leftovers {
+                stdout: stdout.clone(),
+                stderr: stderr.clone(),
+                log,
+                memory_refused,
+                log_overflowed,
+                program_deadline,
+                warnings,
+                warned,
+            }
         };
         if left == 0 {
-            return (Err(wasmtime::Error::new(ProgramTimeSpent)), leftovers(Vec::new(), false, false));
+            return (Err(wasmtime::Error::new(ProgramTimeSpent)), leftovers(None));
         }
         // Three generators from one seed: wasi:random's secure and insecure
         // ones, and the insecure seed that hash maps start from.
@@ -436,14 +521,24 @@ impl WasmWizards {
             log_overflowed: false,
             tools: self.tools.clone(),
             to_program,
+            machine_units: self.machine_units,
+            stock: state.and_then(|state| state.stock).map(|[min, max]| wit::Bounds {
+                min_x: min[0],
+                min_y: min[1],
+                min_z: min[2],
+                max_x: max[0],
+                max_y: max[1],
+                max_z: max[2],
+            }),
+            warnings: Vec::new(),
+            warned: 0,
         };
         let mut store = Store::new(&self.engine, guest);
         store.limiter(|guest| &mut guest.memory);
         // One more than the ticks allowed: the first may come at once.
         store.set_epoch_deadline(left.min(call) + 1);
         let result = loaded.pre.instantiate(&mut store).and_then(|wizard| f(&mut store, &wizard));
-        let guest = store.into_data();
-        (result, leftovers(guest.log, guest.memory.refused, guest.log_overflowed))
+        (result, leftovers(Some(store.into_data())))
     }
 
     fn start_ticker(&mut self) {
@@ -533,7 +628,7 @@ impl WasmWizards {
 }
 
 impl WasmWizards {
-    fn expand_loaded(&mut self, loaded: &Loaded, call: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic> {
+    fn expand_loaded(&mut self, loaded: &Loaded, call: &Call, state: &CallState) -> Result<Expansion, Diagnostic> {
         let args: Vec<wit::Arg> = call
             .args
             .iter()
@@ -552,9 +647,9 @@ impl WasmWizards {
             .map(|tool| tool_to_wit(tool, to_program));
         // Debug text is exact (floats read back as the same number) and the
         // same for the same call: what the call's random numbers are seeded from.
-        let seed = seed(&loaded.digest, &format!("expand {args:?} {machine_state:?}"));
+        let seed = seed(&loaded.digest, &format!("expand {args:?} {machine_state:?} {:?}", state.stock));
         let (result, leftovers) =
-            self.run(loaded, to_program, seed, |store, wizard| wizard.call_expand(store, &args, machine_state));
+            self.run(loaded, Some(state), seed, |store, wizard| wizard.call_expand(store, &args, machine_state));
         let name = shown_name(call.name);
         match result {
             Ok(Ok(output)) => {
@@ -585,7 +680,17 @@ impl WasmWizards {
                     let help = "all the wizard calls of one program, nested ones too, share this limit";
                     return Err(Diagnostic::error(call.span, message).with_help(help));
                 }
-                Ok(statements)
+                let mut warnings: Vec<Diagnostic> = leftovers
+                    .warnings
+                    .iter()
+                    .map(|message| Diagnostic::warning(call.span, format!("wizard `{name}`: {message}")))
+                    .collect();
+                if leftovers.warned > warnings.len() {
+                    let more = leftovers.warned - warnings.len();
+                    let message = format!("wizard `{name}` gave {more} more warnings, not shown");
+                    warnings.push(Diagnostic::warning(call.span, message));
+                }
+                Ok(Expansion { statements, warnings })
             }
             Ok(Err(message)) => {
                 let message = clip(&message, SHOWN_MESSAGE);
@@ -611,7 +716,7 @@ fn program_time_help() -> &'static str {
 }
 
 impl Wizards for WasmWizards {
-    fn expand(&mut self, call: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic> {
+    fn expand(&mut self, call: &Call, state: &CallState) -> Result<Expansion, Diagnostic> {
         let loaded = self.load(call.name, call.span).map_err(|d| Diagnostic { span: call.span, ..d })?;
         // What the call costs, its output read and checked too (but not
         // loading, which happens once), counts towards the program's time.
@@ -642,13 +747,17 @@ fn tool_to_wit(tool: &config::Tool, to_program: f64) -> wit::Tool {
     }
 }
 
+fn units_to_wit(units: Units) -> wit::Units {
+    match units {
+        Units::Mm => wit::Units::Mm,
+        Units::Inch => wit::Units::Inch,
+    }
+}
+
 fn state_to_wit(state: &CallState) -> wit::MachineState {
     let [x, y, z] = state.position;
     wit::MachineState {
-        units: match state.units {
-            Units::Mm => wit::Units::Mm,
-            Units::Inch => wit::Units::Inch,
-        },
+        units: units_to_wit(state.units),
         x,
         y,
         z,

@@ -14,7 +14,7 @@
 //! a bare move (`X1 Y2`) gets its motion mode written out: later passes see
 //! every move with its G00/G01/G02/G03.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{HashMap, HashSet, VecDeque};
 use std::io::BufRead;
 use std::sync::Arc;
 
@@ -23,7 +23,7 @@ use crate::diag::{Diagnostic, Origin, Span};
 use crate::parse::Event;
 use crate::state::Probe;
 use crate::statement::{Cycle, CycleCode, Dialect, Kind, Motion, MotionMode, SplineCode, Statement};
-use crate::wizard::{shown_name, Call, Wizards};
+use crate::wizard::{shown_name, Call, Expansion, Wizards};
 
 /// How deep subprogram calls may nest before ger calls it runaway recursion.
 pub const MAX_CALL_DEPTH: usize = 32;
@@ -189,8 +189,8 @@ pub struct Subprograms<'a, I> {
     seen_first_statement: bool,
     ended: bool,
     warned_after_end: bool,
-    /// An event to hand out before reading on.
-    pending: Option<Event>,
+    /// Events to hand out before reading on.
+    pending: VecDeque<Event>,
     motion: MotionMode,
     /// The canned cycle a bare position repeats, until G80 or a motion code.
     cycle: Option<CycleCode>,
@@ -222,7 +222,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             seen_first_statement: false,
             ended: false,
             warned_after_end: false,
-            pending: None,
+            pending: VecDeque::new(),
             motion: MotionMode::Rapid,
             cycle: None,
             after_spline: None,
@@ -263,7 +263,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
         let outermost = self.stack[0].origin.call;
         let message = format!("the calls from here ran {limit} blocks without ending: stopped");
         let help = "raise [machine] max_blocks in ger.toml if the program is meant to run longer";
-        self.pending = Some(Event::Diagnostic(Diagnostic::error(outermost, message).with_help(help)));
+        self.pending.push_back(Event::Diagnostic(Diagnostic::error(outermost, message).with_help(help)));
         self.stack.clear();
         self.stopped = true;
         false
@@ -321,7 +321,7 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
             Kind::Return if self.runtime.config.dialect.name == Dialect::Lenient => {
                 let message = "M99 in the main program ends it here";
                 let help = "a Fanuc or Haas would run the program again: write M30 to end it, or M47 to repeat it";
-                self.pending = Some(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
+                self.pending.push_back(Event::Diagnostic(Diagnostic::warning(statement.span, message).with_help(help)));
                 self.main_statement(statement.with_kind(Kind::End))
             }
             Kind::Return => {
@@ -454,7 +454,9 @@ impl<'a, I: Iterator<Item = Event>> Subprograms<'a, I> {
                 let state = self.runtime.probe.borrow().call_state(self.runtime.config, statement.span.line);
                 let call = Call { name, args, span: statement.span };
                 match self.runtime.wizards.expand(&call, &state) {
-                    Ok(mut body) => {
+                    Ok(Expansion { statements: mut body, warnings }) => {
+                        let warnings = warnings.into_iter().map(|w| w.with_origin(statement.origin.clone()));
+                        self.pending.extend(warnings.map(Event::Diagnostic));
                         for generated in &mut body {
                             generated.span = statement.span;
                         }
@@ -650,12 +652,12 @@ impl<I: Iterator<Item = Event>> Iterator for Subprograms<'_, I> {
 
     fn next(&mut self) -> Option<Event> {
         loop {
-            if let Some(event) = self.pending.take() {
+            if let Some(event) = self.pending.pop_front() {
                 return Some(event);
             }
             let event = match self.next_from_stack() {
                 Some(statement) => self.run(statement),
-                None if self.stopped => return self.pending.take(),
+                None if self.stopped => return self.pending.pop_front(),
                 None => match self.restarted.as_mut().map_or_else(|| self.upstream.next(), |stream| stream.next()) {
                     Some(Event::Statement(statement)) => self.main_statement(statement),
                     Some(diagnostic) => Some(diagnostic),
@@ -817,8 +819,8 @@ mod tests {
         use crate::parse::{parse, Event};
         use crate::passes::{translate, Library, Options};
         use crate::state::{CallState, Spindle};
-        use crate::statement::{Distance, Statement, Units, WizardArg};
-        use crate::wizard::{Call, Wizards};
+        use crate::statement::{Distance, Units, WizardArg};
+        use crate::wizard::{Call, Expansion, Wizards};
 
         /// Records what it is told and answers with the G-code text it is given.
         struct Fake {
@@ -828,15 +830,16 @@ mod tests {
         }
 
         impl Wizards for Fake {
-            fn expand(&mut self, call: &Call, state: &CallState) -> Result<Vec<Statement>, Diagnostic> {
+            fn expand(&mut self, call: &Call, state: &CallState) -> Result<Expansion, Diagnostic> {
                 self.seen.push(state.clone());
                 self.args.push(call.args.to_vec());
-                Ok(parse(lex_str(self.answer))
+                let statements = parse(lex_str(self.answer))
                     .map(|e| match e {
                         Event::Statement(s) => s,
                         Event::Diagnostic(d) => panic!("{d}"),
                     })
-                    .collect())
+                    .collect();
+                Ok(Expansion { statements, warnings: Vec::new() })
             }
         }
 

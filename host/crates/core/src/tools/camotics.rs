@@ -131,7 +131,7 @@ pub fn parse(text: &str) -> Result<Project, ProjectError> {
         };
         let tip_angle = tip_angle.filter(|a| *a > 0.0);
         let flute_length = Some(length);
-        tools.push(Tool { number, kind, diameter, flute_length, tip_angle });
+        tools.push(Tool { flute_length, tip_angle, ..Tool::new(number, kind, diameter) });
     }
     let workpiece = match file.workpiece {
         Some(w) if w.automatic => {
@@ -166,10 +166,7 @@ mod tests {
                  "files": ["cameo.nc"] }"#,
         )
         .unwrap();
-        assert_eq!(
-            cameo.tools,
-            [Tool { number: 1, kind: ToolKind::Ballmill, diameter: 2.0, flute_length: Some(10.0), tip_angle: None }]
-        );
+        assert_eq!(cameo.tools, [Tool { flute_length: Some(10.0), ..Tool::new(1, ToolKind::Ballmill, 2.0) }]);
         assert_eq!(
             cameo.workpiece,
             Some(Workpiece::Bounds { min: [-83.6, -104.153, -7.0], max: [83.6, 103.747, 0.0] })

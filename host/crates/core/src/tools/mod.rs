@@ -317,13 +317,8 @@ pub fn settle(
                 continue;
             }
             let d = &entry.described;
-            let tool = Tool {
-                number,
-                kind: d.kind,
-                diameter: d.diameter,
-                flute_length: d.flute_length,
-                tip_angle: d.tip_angle,
-            };
+            let tool =
+                Tool { flute_length: d.flute_length, tip_angle: d.tip_angle, ..Tool::new(number, d.kind, d.diameter) };
             let tool = scaled(&tool, entry.units.unwrap_or(units).factor_to(units));
             if usable(&tool, units) {
                 table.push((tool, ToolSource::Comment { line: entry.line }));

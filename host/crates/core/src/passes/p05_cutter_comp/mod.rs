@@ -693,8 +693,7 @@ mod tests {
 
     #[test]
     fn the_radius_stays_until_g40_and_d_names_an_entry() {
-        let tool =
-            |number, diameter| Tool { number, kind: ToolKind::Endmill, diameter, flute_length: None, tip_angle: None };
+        let tool = |number, diameter| Tool::new(number, ToolKind::Endmill, diameter);
         let config = Config { tools: vec![tool(1, 0.25), tool(2, 0.5)], ..Config::default() };
         // M06 T2 while on keeps R 0.125; the next G41 takes tool 2's 0.25,
         // or tool 1's again with D1.
