@@ -10,10 +10,10 @@
 
 mod planner;
 
-pub use ger_core::config::{Machine, MotionProfile};
+pub use ger_core::config::Machine;
 use ger_core::statement::{Kind, Machine as Code, Statement, Units};
 use ger_sim::{Segment, Step, Walker};
-pub use planner::{trapezoid, Clock, Planner, Speed};
+pub use planner::{Clock, Planner, Speed};
 
 /// The slowest feed GRBL runs at (its `MINIMUM_FEED_RATE`), in millimetres per minute.
 const MIN_FEED_MM: f64 = 1.0;

@@ -240,7 +240,7 @@ fn limit(axes: [f64; 3], unit: Point) -> f64 {
 /// How long a block of `length` takes from an entry speed to an exit speed
 /// (both squared), accelerating and braking at `acceleration`, no faster
 /// than `nominal`.
-pub fn trapezoid(length: f64, acceleration: f64, nominal: f64, entry_sqr: f64, exit_sqr: f64) -> f64 {
+fn trapezoid(length: f64, acceleration: f64, nominal: f64, entry_sqr: f64, exit_sqr: f64) -> f64 {
     let (entry, exit) = (entry_sqr.sqrt(), exit_sqr.sqrt());
     let nominal_sqr = nominal * nominal;
     let accelerating = (nominal_sqr - entry_sqr) / (2.0 * acceleration);
