@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use anyhow::{Context, Result};
 
-use super::render::{memory_limit, refused, resolution, usage_error, Bar};
+use super::render::{refused, usage_error, Bar, GridArgs};
 use super::{styled, CommonArgs};
 use ger_check::{Bounds, Finding, ProfileUsed, Rule, Summary, Verdict};
 use ger_core::config::Config;
@@ -17,7 +17,7 @@ use ger_core::diag::{Diagnostic, Severity};
 use std::path::PathBuf;
 
 use ger_engine::compare::{Comparison, Design};
-use ger_engine::{carve, stock_of, Job, Purpose, Report, Resolution, Source};
+use ger_engine::{carve, stock_of, Job, Purpose, Report, Source};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Output {
@@ -62,13 +62,8 @@ pub(crate) struct CheckArgs {
     /// collision, clearance, fixture.
     #[arg(long, value_name = "CHECK", value_parser = rule)]
     allow: Vec<Rule>,
-    /// The side of a simulation cell, in machine units [default: the
-    /// config's scale, or 1/1000 of the stock's longer side].
-    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
-    resolution: Option<f64>,
-    /// MiB the simulation's height field may take [default: the config's, or 2048].
-    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
-    memory_limit: Option<u64>,
+    #[command(flatten)]
+    grid: GridArgs,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -99,7 +94,7 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
         Some(mesh) => stock_of(mesh),
         None => program.stock(&mut bar).0,
     };
-    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let asked = args.grid.asked();
     let mut sim = match program.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),
@@ -163,7 +158,7 @@ fn job(args: &CheckArgs) -> Result<i32> {
         Some(mesh) => stock_of(mesh),
         None => job.stock(&mut bar).0,
     };
-    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let asked = args.grid.asked();
     let mut sim = match job.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, job.programs()[0].source()),

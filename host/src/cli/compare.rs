@@ -11,13 +11,13 @@ use serde::Serialize;
 
 use super::check::Output;
 use super::error::cannot_write;
-use super::render::{memory_limit, refused, resolution, save, usage_error, Bar};
+use super::render::{refused, save, usage_error, Bar, GridArgs};
 use super::{CommonArgs, UnitsArg};
 use ger_core::config::{Bounds, Config};
 use ger_core::statement::Units;
 use ger_engine::compare::{heat_map, Comparison, Design, Deviation};
 use ger_engine::sim::Stock;
-use ger_engine::{place_design, Purpose, Resolution};
+use ger_engine::{place_design, Purpose};
 use ger_output::OutputFile;
 
 #[derive(Args)]
@@ -34,13 +34,8 @@ pub(crate) struct CompareArgs {
     /// Also write a heat map (PNG): red gouged, green within the tolerance, blue material left.
     #[arg(long, value_name = "PNG")]
     heat_map: Option<PathBuf>,
-    /// The side of a simulation cell, in machine units [default: the
-    /// config's scale, or 1/1000 of the stock's longer side].
-    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
-    resolution: Option<f64>,
-    /// MiB the simulation's height field may take [default: the config's, or 2048].
-    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
-    memory_limit: Option<u64>,
+    #[command(flatten)]
+    grid: GridArgs,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -105,7 +100,7 @@ pub(crate) fn compare(args: &CompareArgs) -> Result<i32> {
     let mut bar = Bar::new(args.quiet || args.format == Output::Json);
     let (stock, _) = program.stock(&mut bar);
     let Some((design, tolerance)) = args.placing.load(&args.design, &config, &stock)? else { return Ok(2) };
-    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let asked = args.grid.asked();
     let sim = match program.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),

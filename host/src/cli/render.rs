@@ -52,10 +52,8 @@ pub(crate) struct RenderArgs {
     /// Draw the toolpath over the 3D picture.
     #[arg(long)]
     with_toolpath: bool,
-    /// The side of a simulation cell, in machine units [default: the config's
-    /// scale, or 1/1000 of the stock's longer side].
-    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
-    resolution: Option<f64>,
+    #[command(flatten)]
+    grid: GridArgs,
     /// A named 3D view: iso, top, bottom, front, back, right, left [default: iso].
     #[arg(long, value_parser = view_name)]
     view: Option<String>,
@@ -71,9 +69,6 @@ pub(crate) struct RenderArgs {
     /// The picture's size in pixels.
     #[arg(long, value_name = "WxH", default_value = "1024x768", value_parser = size)]
     size: (u32, u32),
-    /// MiB the height field may take [default: the config's, or 2048].
-    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
-    memory_limit: Option<u64>,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -101,6 +96,24 @@ fn within(text: &str, low: f64, high: f64, what: &str) -> Result<f64> {
 
 /// A cell's side: within the bounds of a machine in either unit (`simulation`
 /// then holds it to the machine's own unit).
+/// How finely `render`, `check` and `compare` simulate.
+#[derive(clap::Args)]
+pub(super) struct GridArgs {
+    /// The side of a simulation cell, in machine units [default: the
+    /// config's scale, or 1/1000 of the stock's longer side].
+    #[arg(long, value_name = "LENGTH", value_parser = resolution)]
+    resolution: Option<f64>,
+    /// MiB the simulation's height field may take [default: the config's, or 2048].
+    #[arg(long, value_name = "MIB", value_parser = memory_limit)]
+    memory_limit: Option<u64>,
+}
+
+impl GridArgs {
+    pub(super) fn asked(&self) -> Resolution {
+        Resolution { cell: self.resolution, memory_limit_mib: self.memory_limit }
+    }
+}
+
 pub(super) fn resolution(text: &str) -> Result<f64> {
     let (inch, mm) = (Bounds::of(Units::Inch), Bounds::of(Units::Mm));
     let (low, high) = (inch.smallest, mm.length);
@@ -275,7 +288,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32> {
         }
         return Ok(1);
     }
-    let asked = Resolution { cell: args.resolution, memory_limit_mib: args.memory_limit };
+    let asked = args.grid.asked();
     let sim = match job.simulation(stock, asked) {
         Ok(sim) => sim,
         Err(err) => return refused(err, &args.common, &source),

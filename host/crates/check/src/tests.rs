@@ -265,7 +265,7 @@ fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
     assert!(verdict.line_times.iter().zip(expected).all(|(a, b)| near(*a, b)), "{:?}", verdict.line_times);
     // The profile is said: grbl-default, as no [machine.motion] is given.
     assert_eq!((planned.profile.preset, planned.profile.configured), ("grbl-default", false));
-    assert_eq!(planned.profile.max_rate, [5000.0, 5000.0, 1000.0]);
+    assert_eq!(planned.profile.machine.max_rate, [5000.0, 5000.0, 1000.0]);
 }
 
 #[test]

@@ -30,35 +30,18 @@ pub struct ProfileUsed {
     pub grbl_settings: Option<String>,
     /// Whether `ger.toml` has `[machine.motion]`; without it, the preset alone.
     pub configured: bool,
-    /// Units per minute, X Y Z.
-    pub max_rate: [f64; 3],
-    /// Units per second squared.
-    pub acceleration: [f64; 3],
-    pub steps_per_unit: [f64; 3],
-    pub junction_deviation: f64,
-    pub arc_tolerance: f64,
-    pub planner_blocks: usize,
-    /// Seconds.
-    pub tool_change_time: f64,
-    /// Seconds; 0 when dwells run as programmed.
-    pub dwell_multiple: f64,
+    /// The numbers, at the same level in the JSON.
+    #[serde(flatten)]
+    pub machine: ger_core::config::Machine,
 }
 
 impl ProfileUsed {
     fn new(profile: &MotionProfile) -> ProfileUsed {
-        let m = &profile.machine;
         ProfileUsed {
             preset: profile.preset.name(),
             grbl_settings: profile.grbl_settings.as_deref().map(|p| Path::new(p).display().to_string()),
             configured: profile.configured,
-            max_rate: m.max_rate,
-            acceleration: m.acceleration,
-            steps_per_unit: m.steps_per_unit,
-            junction_deviation: m.junction_deviation,
-            arc_tolerance: m.arc_tolerance,
-            planner_blocks: m.planner_blocks,
-            tool_change_time: m.tool_change_time,
-            dwell_multiple: m.dwell_multiple,
+            machine: profile.machine,
         }
     }
 }

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{quoted, Bounds, Step};
 use crate::diag::{Diagnostic, Span};
@@ -81,8 +81,9 @@ impl Preset {
     }
 }
 
-/// The numbers of a profile, without where they came from.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The numbers of a profile, without where they came from (serialised as
+/// `ger check --format json` reports them).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Machine {
     /// Units per minute.
     pub max_rate: [f64; 3],
