@@ -29,7 +29,7 @@ use serde::de::DeserializeOwned;
 use crate::analysis::{analyse, Analysis};
 use crate::codes::{self, codes};
 use crate::outline::{token_at, Block};
-use crate::text::{byte_of_utf16, Document};
+use crate::text::Document;
 use crate::{actions, Options, WizardInfo};
 use ger_engine::core::diag::Span;
 use ger_engine::core::emit::push_number;
@@ -342,9 +342,8 @@ impl Shared {
         let (token, range) = {
             let documents = lock(&self.documents);
             let document = &documents.get(uri)?.document;
-            let line_text = document.lines.line(&document.text, position.line as usize);
-            let col = byte_of_utf16(line_text, position.character) as u32 + 1;
-            let token = token_at(line_text, position.line + 1, col, dialect);
+            let (line, col, line_text) = document.cursor(position);
+            let token = token_at(line_text, line, col, dialect);
             let range =
                 token.as_ref().map(|t| document.lines.range(&document.text, t.span.line, t.span.col, t.span.len));
             (token, range)
@@ -394,9 +393,7 @@ impl Shared {
         let analysis = self.analysis(uri)?;
         let documents = lock(&self.documents);
         let document = &documents.get(uri)?.document;
-        let line_text = document.lines.line(&document.text, position.line as usize);
-        let col = byte_of_utf16(line_text, position.character) as u32 + 1;
-        let line = position.line + 1;
+        let (line, col, _) = document.cursor(position);
         if let Some(name) = analysis.outline.wizard_at(line, col) {
             let key = wizard_key(name);
             let catalog = self.catalog(uri);
@@ -419,9 +416,7 @@ impl Shared {
         let analysis = self.analysis(uri)?;
         let documents = lock(&self.documents);
         let document = &documents.get(uri)?.document;
-        let line_text = document.lines.line(&document.text, position.line as usize);
-        let col = byte_of_utf16(line_text, position.character) as u32 + 1;
-        let line = position.line + 1;
+        let (line, col, _) = document.cursor(position);
         let outline = &analysis.outline;
         let label = match outline.call_at(line, col) {
             Some(call) => call.label.clone(),

@@ -95,6 +95,13 @@ impl Document {
         Document { text, version, lines }
     }
 
+    /// The 1-based line and byte column (as ger's spans count) of an
+    /// editor's position, and that line's text.
+    pub fn cursor(&self, position: Position) -> (u32, u32, &str) {
+        let line_text = self.lines.line(&self.text, position.line as usize);
+        (position.line + 1, byte_of_utf16(line_text, position.character) as u32 + 1, line_text)
+    }
+
     /// Applies the editor's changes in order: each a range replaced, or the whole text.
     pub fn change(&mut self, changes: Vec<TextDocumentContentChangeEvent>, version: i32) {
         for change in changes {
