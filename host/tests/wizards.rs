@@ -70,6 +70,24 @@ fn moves(lines: &[String]) -> Vec<(u32, [f64; 3], [f64; 3])> {
     out
 }
 
+/// The centre of each line's arc (absolute), or `None` for a line that is no arc.
+fn arc_centres(lines: &[String]) -> Vec<Option<[f64; 2]>> {
+    let mut at = [0.0; 2];
+    let mut out = Vec::new();
+    for line in lines {
+        let word = |letter: char| {
+            line.split_whitespace().find(|w| w.starts_with(letter)).and_then(|w| w[1..].parse::<f64>().ok())
+        };
+        let moved = ['X', 'Y', 'Z'].iter().any(|&l| word(l).is_some());
+        let centre = word('I').zip(word('J')).map(|(i, j)| [at[0] + i, at[1] + j]);
+        if moved {
+            out.push(centre);
+        }
+        at = [word('X').unwrap_or(at[0]), word('Y').unwrap_or(at[1])];
+    }
+    out
+}
+
 fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dy * dy;
@@ -163,6 +181,25 @@ fn pocket_rounds_its_corners_enters_by_helix_and_climbs_in_either_unit() {
         // rounded corners and its helix are G03 arcs, never G02.
         let (lines, _) = run("wizards", &Config::from_toml(&config).unwrap(), &program);
         assert!(lines.iter().any(|l| l.starts_with("G03")) && !lines.iter().any(|l| l.starts_with("G02")), "{call}");
+        // With an allowance, the finishing ring is joined at the middle of the
+        // bottom wall by arcs tangent to it (their centres straight above that
+        // point), from and back to the outermost rough ring's line, the
+        // allowance further in: once in and once out at every level.
+        let allowance: f64 = call.split_whitespace().nth(8).map_or(0.0, |a| a.parse().unwrap());
+        if allowance > 0.0 {
+            let r = if unit == "mm" { 3.0 } else { 0.125 };
+            let (bottom, rough) = ([x0 + length / 2.0, y0 + r], y0 + r + allowance);
+            let at = |p: [f64; 3], q: [f64; 2]| (p[0] - q[0]).abs() < 1e-4 && (p[1] - q[1]).abs() < 1e-4;
+            let arcs = moves(&lines).into_iter().zip(arc_centres(&lines)).filter(|((mode, a, b), centre)| {
+                let tangent = centre.is_some_and(|c| (c[0] - bottom[0]).abs() < 1e-4 && c[1] > bottom[1]);
+                *mode == 3 && tangent && (at(*a, bottom) || at(*b, bottom))
+            });
+            let on_rough = |p: [f64; 3]| (p[1] - rough).abs() < 1e-4;
+            let ends: Vec<(bool, bool)> =
+                arcs.map(|((_, a, b), _)| (on_rough(a) && at(b, bottom), at(a, bottom) && on_rough(b))).collect();
+            let levels = (depth / if unit == "mm" { 3.0 } else { 0.1 }).round() as usize;
+            assert_eq!(ends, [(true, false), (false, true)].repeat(levels), "{call}");
+        }
         // No plunge, no rapid into the stock, nothing ger warns of.
         let (status, report) = denied_check(&program, &config);
         assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
@@ -231,29 +268,40 @@ fn denied_check(program: &str, config: &str) -> (Option<i32>, serde_json::Value)
 #[test]
 fn circle_pocket_helixes_down_and_cuts_its_circle_to_the_wall() {
     let (cx, cy, diameter, depth) = (40.0, 30.0, 30.0, 8.0);
-    for (tool, d) in [("endmill", 6.0), ("ballmill", 4.0)] {
+    for (tool, d, allowance) in [("endmill", 6.0, 0.0), ("ballmill", 4.0, 0.0), ("endmill", 6.0, 0.4)] {
         let tools = format!("[[tools]]\nnumber = 1\nkind = \"{tool}\"\ndiameter = {d}\nflute_length = 20\n");
         let program = format!(
-            "G21 G90\nM06 T1\nM03 S12000\nG00 X{cx} Y{cy} Z5\nG01 Z0 F300\nCirclePocket {diameter} {depth} 4\nG00 Z5\nM05\nM30\n"
+            "G21 G90\nM06 T1\nM03 S12000\nG00 X{cx} Y{cy} Z5\nG01 Z0 F300\nCirclePocket {diameter} {depth} 4 3 {allowance}\n\
+             G00 Z5\nM05\nM30\n"
         );
         let (lines, diagnostics) = run("wizards", &mm(&tools), &program);
         assert!(diagnostics.is_empty(), "{diagnostics:?}");
         // Radially, every point of the floor is within the tool's radius of a circle cut at full depth.
         let r = d / 2.0;
         let mut at_floor = Vec::new();
-        let mut z = 0.0;
-        for line in &lines {
-            let word = |letter: char| {
-                line.split_whitespace().find(|w| w.starts_with(letter)).and_then(|w| w[1..].parse::<f64>().ok())
-            };
-            z = word('Z').unwrap_or(z);
-            if line.starts_with("G03") && (z + depth).abs() < 1e-9 {
-                at_floor.push(word('I').unwrap().hypot(word('J').unwrap()));
+        let wall = diameter / 2.0;
+        let path = moves(&lines);
+        for ((mode, a, b), centre) in path.iter().zip(arc_centres(&lines)) {
+            let (Some(centre), true) = (centre, *mode == 3 && (b[2] + depth).abs() < 1e-9) else { continue };
+            let radius = (a[0] - centre[0]).hypot(a[1] - centre[1]);
+            if (centre[0] - cx).abs() < 1e-4 && (centre[1] - cy).abs() < 1e-4 {
+                at_floor.push(radius);
+            } else {
+                // A lead: inside the wall's circle, tangent to it from within
+                // (its centre its radius in from the wall's path), one end on it.
+                let from_axis = (centre[0] - cx).hypot(centre[1] - cy);
+                assert!(allowance > 0.0 && (from_axis + radius - (wall - r)).abs() < 1e-4, "{tool}: {a:?} -> {b:?}");
+                let on_wall = |p: &[f64; 3]| ((p[0] - cx).hypot(p[1] - cy) - (wall - r)).abs() < 1e-4;
+                assert!(on_wall(a) != on_wall(b), "{tool}: a lead from {a:?} to {b:?}");
             }
         }
-        let wall = diameter / 2.0;
         assert!(at_floor.iter().all(|radius| radius + r <= wall + 1e-9), "{at_floor:?} cut past the wall");
         assert!(at_floor.iter().any(|radius| (radius + r - wall).abs() < 1e-9), "{at_floor:?}: no pass at the wall");
+        if allowance > 0.0 {
+            // The rings stop the allowance short of the wall, the finishing pass does not.
+            let rough: Vec<&f64> = at_floor.iter().filter(|radius| (*radius + r - wall).abs() > 1e-9).collect();
+            assert!(rough.iter().any(|radius| (*radius + r + allowance - wall).abs() < 1e-9), "{at_floor:?}");
+        }
         for step in 0..=300 {
             let rho = wall * f64::from(step) / 300.0;
             let near = |radius: &f64| (rho - radius).abs() <= r || rho <= r - radius;
@@ -281,6 +329,17 @@ fn circle_pocket_helixes_down_and_cuts_its_circle_to_the_wall() {
         diagnostics[0].starts_with("5:1: error") && diagnostics[0].contains("no room to helix down"),
         "{diagnostics:?}"
     );
+    for (call, words) in [
+        ("CirclePocket 30 8 4 3 4", "more than a ring's stepover"),
+        ("CirclePocket 7 2 1 3 0.5", "leaves the rings no room"),
+    ] {
+        let (_, diagnostics) = run(
+            "wizards",
+            &mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n"),
+            &format!("G21 G90\nM06 T1\nG00 X0 Y0 Z0\nF100\n{call}\nM30\n"),
+        );
+        assert!(diagnostics.len() == 1 && diagnostics[0].contains(words), "{call}: {diagnostics:?}");
+    }
 }
 
 #[test]
@@ -407,28 +466,78 @@ fn profile_cuts_a_groove_round_the_outside_or_the_inside_and_nothing_else() {
         let height = height_at(&field, point[0], point[1]);
         assert!((height - if cut { -6.0 } else { 0.0 }).abs() < 1e-6, "circle: Z{height} at {point:?}");
     }
-    // Four tabs, in two levels of 3: the path round the 60 x 40 rectangle (corner
-    // radius 3, the tool's) is 200 + 6π long, from (80, 17) clockwise. The tabs'
-    // centres are an eighth, three eighths... of it along: 27.36 along the bottom
-    // edge and 17.36 up the left one (after the 60 mm edge and a 3π/2 corner).
-    // Their bridges, 12 wide (twice the tool) and 1.5 high (a quarter of 6),
-    // stay at Z-4.5; beyond a bridge's end and its 45° ramp the groove is at Z-6.
-    let call = "Profile 60 40 6 \"outside\" 0 3 4";
+    // Two tabs, in two levels of 3: the path round the 60 x 40 rectangle
+    // (corner radius 3, the tool's) is 200 + 6π long and starts in the middle
+    // of its bottom side, at (50, 17), clockwise. The tabs' centres are a
+    // quarter and three quarters of it along: 30 to the corner, 3π/2 round
+    // it and 20 up the left side, at (17, 40), and so at (83, 40) on the
+    // right. Their bridges, 12 wide (twice the tool) and 1.5 high (a quarter
+    // of 6), stay at Z-4.5; beyond a bridge's end and its 45° ramp the groove
+    // is at Z-6.
+    let call = "Profile 60 40 6 \"outside\" 0 3 2";
     let (status, report) = denied_check(&program(call), config);
     assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
     let field = simulated(&program(call), config, 0.2);
-    let lap = 200.0 + 6.0 * std::f64::consts::PI;
-    let (bottom, left) = (80.0 - lap / 8.0, 20.0 + 3.0 * lap / 8.0 - 60.0 - 1.5 * std::f64::consts::PI);
-    for (point, expected) in [
-        ([bottom, 17.0], -4.5),
-        ([bottom - 4.0, 17.0], -4.5),
-        ([bottom + 4.0, 17.0], -4.5),
-        ([bottom + 12.0, 17.0], -6.0),
-        ([bottom - 12.0, 17.0], -6.0),
-        ([17.0, left], -4.5),
-        ([17.0, left + 12.0], -6.0),
+    let tabbed = [
+        ([17.0, 40.0], -4.5),
+        ([17.0, 36.0], -4.5),
+        ([17.0, 44.0], -4.5),
+        ([17.0, 52.0], -6.0),
+        ([17.0, 28.0], -6.0),
+        ([83.0, 40.0], -4.5),
+        ([83.0, 28.0], -6.0),
+        ([50.0, 17.0], -6.0),
         ([50.0, 40.0], 0.0),
-    ] {
+    ];
+    for (point, expected) in tabbed {
+        let height = height_at(&field, point[0], point[1]);
+        assert!((height - expected).abs() < 1e-6, "{call}: Z{height} at {point:?}, not {expected}");
+    }
+    // The same with 0.5 left by the levels for a finishing pass: the edge
+    // is where it was, the tabs too, and the pass is joined to the groove
+    // by two arcs of the tool's radius tangent to the edge's path at
+    // (50, 17) (their centre 3 below it), from and back to the groove's
+    // path 0.5 further out: one lap at full depth, as the flutes are not
+    // known to be shorter.
+    let call = "Profile 60 40 6 \"outside\" 0 3 2 12 1.5 0.5";
+    let (status, report) = denied_check(&program(call), config);
+    assert_eq!((status, &report["diagnostics"]), (Some(0), &serde_json::json!([])), "{call}");
+    let field = simulated(&program(call), config, 0.2);
+    let edges = [([20.3, 40.0], 0.0), ([19.7, 30.0], -6.0), ([50.0, 20.3], 0.0), ([50.0, 19.7], -6.0)];
+    for (point, expected) in tabbed.into_iter().chain(edges) {
+        let height = height_at(&field, point[0], point[1]);
+        assert!((height - expected).abs() < 1e-6, "{call}: Z{height} at {point:?}, not {expected}");
+    }
+    let (lines, _) = run("wizards", &Config::from_toml(config).unwrap(), &program(call));
+    let leads: Vec<([f64; 3], [f64; 3])> = moves(&lines)
+        .into_iter()
+        .zip(arc_centres(&lines))
+        .filter(|(_, centre)| centre.is_some_and(|c| (c[0] - 50.0).abs() < 1e-4 && (c[1] - 14.0).abs() < 1e-4))
+        .map(|((mode, a, b), _)| {
+            assert_eq!(mode, 3, "{call}: a lead on the left of a clockwise path turns counter-clockwise");
+            (a, b)
+        })
+        .collect();
+    assert_eq!(leads.len(), 2, "{call}: {leads:?}");
+    // Afterwards the tool is back where the call was (the program's own Z5 follows).
+    assert_eq!(moves(&lines).last().map(|m| m.1), Some([20.0, 20.0, 0.0]), "{call}");
+    let ((a, b), (c, d)) = (leads[0], leads[1]);
+    let on = |p: [f64; 3], y: f64| (p[1] - y).abs() < 1e-4 && (p[2] + 6.0).abs() < 1e-9;
+    assert!(on(a, 16.5) && on(b, 17.0) && a[0] > 50.0 && (b[0] - 50.0).abs() < 1e-4, "{call}: lead-in {a:?} -> {b:?}");
+    assert!(on(c, 17.0) && on(d, 16.5) && d[0] < 50.0, "{call}: lead-out {c:?} -> {d:?}");
+    // Inside, with flutes 4 long: the pass is cut in two levels of 3, each led in and out.
+    let short = config.replace("diameter = 6\n", "diameter = 6\nflute_length = 4\n");
+    let call = "Profile 60 40 6 \"inside\" 10 3 0 12 1.5 0.5";
+    let (lines, diagnostics) = run("wizards", &Config::from_toml(&short).unwrap(), &program(call));
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    // Inside, counter-clockwise from the bottom's middle (50, 23): the leads' centre is 3 above it.
+    let leads = arc_centres(&lines)
+        .iter()
+        .filter(|c| c.is_some_and(|c| (c[0] - 50.0).abs() < 1e-4 && (c[1] - 26.0).abs() < 1e-4))
+        .count();
+    assert_eq!(leads, 4, "{call}");
+    let field = simulated(&program(call), &short, 0.2);
+    for (point, expected) in [([23.0, 40.0], -6.0), ([20.3, 40.0], -6.0), ([19.7, 40.0], 0.0), ([50.0, 40.0], 0.0)] {
         let height = height_at(&field, point[0], point[1]);
         assert!((height - expected).abs() < 1e-6, "{call}: Z{height} at {point:?}, not {expected}");
     }
@@ -451,6 +560,14 @@ fn profile_cuts_a_groove_round_the_outside_or_the_inside_and_nothing_else() {
         &program("Profile 20 20 6 \"outside\" 0 3 6"),
     );
     assert!(diagnostics.len() == 1 && diagnostics[0].contains("do not fit"), "{diagnostics:?}");
+    for (call, words) in [
+        ("Profile 60 40 6 \"outside\" 0 3 0 12 1.5 3.5", "at most the tool's radius"),
+        ("Profile 7 40 6 \"inside\" 0 3 0 12 1.5 0.6", "with 0.6 allowance a side does not fit"),
+    ] {
+        let (_, diagnostics) =
+            run("wizards", &mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6\n"), &program(call));
+        assert!(diagnostics.len() == 1 && diagnostics[0].contains(words), "{call}: {diagnostics:?}");
+    }
 }
 
 #[test]
@@ -599,11 +716,15 @@ fn every_wizards_example_passes_the_check_with_warnings_denied_and_is_pictured()
         .collect();
     shipped.sort();
     for name in &shipped {
-        let program = repo(&format!("host/examples/wizards/{name}.ngc"));
-        assert!(program.exists(), "the wizard {name} has no example in host/examples/wizards");
+        // Each in millimetres on a metric machine, and written again in
+        // inches for an inch machine (`inch/`, with its own tools).
+        for folder in ["host/examples/wizards", "host/examples/wizards/inch"] {
+            let program = repo(&format!("{folder}/{name}.ngc"));
+            assert!(program.exists(), "the wizard {name} has no example in {folder}");
+            programs.push(program);
+        }
         let picture = format!("host/docs/wizards/{name}.png");
         assert!(repo(&picture).exists() && readme.contains(&picture), "{picture} is missing or not in the README");
-        programs.push(program);
     }
     for program in programs {
         let output = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))

@@ -5,6 +5,10 @@
 //!
 //! Distances are measured along the contour from its start; past its length
 //! they go round again, so one call can follow several laps.
+//!
+//! Lead-in and lead-out arcs join the contour tangentially, so a finishing
+//! pass starts and ends without the mark a tool leaves where it stops or
+//! turns sharply against a wall.
 
 use crate::block::{g1, g2, g3, Statement};
 
@@ -24,6 +28,14 @@ pub struct Contour {
 
 /// Closer than this (in the program's unit) is the same point.
 const SAME: f64 = 1e-9;
+
+/// A side of a path, looking along it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// The inside of a counter-clockwise loop, the outside of a clockwise one.
+    Left,
+    Right,
+}
 
 impl Contour {
     /// A contour that starts (and, once closed, ends) at `start`.
@@ -86,6 +98,73 @@ impl Contour {
             }
         }
         path
+    }
+
+    /// A lead-in: an arc of `radius` from the `side` of the contour that
+    /// meets it at `distance` along it, tangent to it there. The arc starts
+    /// `offset` (above 0, at most `radius`) from the line the contour runs
+    /// along at that point: `offset` equal to `radius` is a quarter circle, a
+    /// smaller one a shorter arc that starts on a path `offset` from a
+    /// straight side (a roughing pass that left `offset` for this one).
+    /// Returns where the arc starts and the arc (at the current Z), which
+    /// ends on the contour. Where the contour turns sharply at `distance`,
+    /// the arc follows the piece that starts there.
+    pub fn lead_in(
+        &self,
+        distance: f64,
+        radius: f64,
+        offset: f64,
+        side: Side,
+    ) -> Result<([f64; 2], Statement), String> {
+        let (on, along) = self.point_and_direction(distance, false)?;
+        let lead = Lead::new(on, along, radius, offset, side)?;
+        let start = lead.point(-1.0);
+        Ok((start, lead.arc(start, on)))
+    }
+
+    /// A lead-out: the mirror image of [`Contour::lead_in`], from the
+    /// contour at `distance`, tangent to it as it arrives there, away to
+    /// `side`. Returns the arc and where it ends, `offset` from the line the
+    /// contour ran along.
+    pub fn lead_out(
+        &self,
+        distance: f64,
+        radius: f64,
+        offset: f64,
+        side: Side,
+    ) -> Result<(Statement, [f64; 2]), String> {
+        let (on, along) = self.point_and_direction(distance, true)?;
+        let lead = Lead::new(on, along, radius, offset, side)?;
+        let end = lead.point(1.0);
+        Ok((lead.arc(on, end), end))
+    }
+
+    /// The point at `distance` along the contour and the direction of
+    /// travel there: at a corner, that of the piece `arriving` there, or of
+    /// the one leaving.
+    fn point_and_direction(&self, distance: f64, arriving: bool) -> Result<([f64; 2], [f64; 2]), String> {
+        let lap = self.length();
+        if !(lap.is_finite() && lap > SAME && distance.is_finite()) {
+            return Err("a lead needs a contour with a length and a place on it".to_string());
+        }
+        let mut at = distance.rem_euclid(lap);
+        if arriving && at <= SAME {
+            at = lap;
+        }
+        let mut piece_start = 0.0;
+        let spans: Vec<_> = self.spans().collect();
+        for (n, &(start, piece)) in spans.iter().enumerate() {
+            let piece_end = piece_start + piece.length(start);
+            let last = n + 1 == spans.len();
+            let inside = if arriving { at <= piece_end + SAME } else { at < piece_end - SAME };
+            if inside || last {
+                let along = (at - piece_start).clamp(0.0, piece_end - piece_start);
+                let point = piece.point_at(start, along);
+                return Ok((point, piece.direction(start, point)));
+            }
+            piece_start = piece_end;
+        }
+        Err("a lead needs a contour with pieces".to_string())
     }
 
     /// Each piece with where it starts.
@@ -168,6 +247,17 @@ impl Piece {
         }
     }
 
+    /// The direction of travel (a unit vector) at `point` on the piece that starts at `from`.
+    fn direction(&self, from: [f64; 2], point: [f64; 2]) -> [f64; 2] {
+        let [dx, dy] = match *self {
+            Piece::Line { to } => [to[0] - from[0], to[1] - from[1]],
+            Piece::Arc { centre, clockwise: false, .. } => [centre[1] - point[1], point[0] - centre[0]],
+            Piece::Arc { centre, clockwise: true, .. } => [point[1] - centre[1], centre[0] - point[0]],
+        };
+        let length = dx.hypot(dy);
+        [dx / length, dy / length]
+    }
+
     /// The point `along` from the piece's start `from`.
     fn point_at(&self, from: [f64; 2], along: f64) -> [f64; 2] {
         let total = self.length(from);
@@ -205,6 +295,51 @@ impl Piece {
             Some(z) => block.z(z).into(),
             None => block.into(),
         }
+    }
+}
+
+/// A tangent arc at a point of a contour: its circle's centre, and what
+/// the arc turns through from the contour to where it starts or ends.
+struct Lead {
+    centre: [f64; 2],
+    radius: f64,
+    /// Unit vectors: along the contour, and from it towards the lead's side.
+    along: [f64; 2],
+    across: [f64; 2],
+    /// The angle between the contour's point and the lead's far end.
+    turn: f64,
+    side: Side,
+}
+
+impl Lead {
+    fn new(on: [f64; 2], along: [f64; 2], radius: f64, offset: f64, side: Side) -> Result<Lead, String> {
+        if !(radius.is_finite() && radius > SAME) {
+            return Err(format!("a lead arc needs a radius above 0, not {radius}"));
+        }
+        if !(offset > SAME && offset <= radius + SAME) {
+            return Err(format!(
+                "a lead arc of radius {radius} starts above 0 and at most its radius away, not {offset}"
+            ));
+        }
+        let left = [-along[1], along[0]];
+        let across = if side == Side::Left { left } else { left.map(|v| -v) };
+        let centre = [on[0] + radius * across[0], on[1] + radius * across[1]];
+        let turn = (1.0 - offset.min(radius) / radius).acos();
+        Ok(Lead { centre, radius, along, across, turn, side })
+    }
+
+    /// The lead's far end: behind the contour's point (`forward` -1, a lead-in) or ahead of it (1, a lead-out).
+    fn point(&self, forward: f64) -> [f64; 2] {
+        let (sin, cos) = self.turn.sin_cos();
+        let ([c, a, n], r) = ([self.centre, self.along, self.across], self.radius);
+        [c[0] - r * n[0] * cos + forward * r * a[0] * sin, c[1] - r * n[1] * cos + forward * r * a[1] * sin]
+    }
+
+    /// The arc from `from` to `to` round the lead's centre: it turns towards
+    /// the lead's side, counter-clockwise on the left.
+    fn arc(&self, from: [f64; 2], to: [f64; 2]) -> Statement {
+        let arc = if self.side == Side::Left { g3() } else { g2() };
+        arc.xy(to[0], to[1]).i(self.centre[0] - from[0]).j(self.centre[1] - from[1]).into()
     }
 }
 
@@ -429,6 +564,52 @@ mod tests {
             (30.0, None),
         ];
         assert_eq!(xz, stops);
+    }
+
+    fn assert_near(point: [f64; 2], expected: [f64; 2]) {
+        assert!((point[0] - expected[0]).abs() < 1e-12 && (point[1] - expected[1]).abs() < 1e-12, "{point:?}");
+    }
+
+    #[test]
+    fn leads_are_tangent_arcs_from_the_side_asked_that_start_offset_from_the_contour() {
+        // A 10 x 10 square counter-clockwise from the origin: at 5 along, the middle of its bottom, going +X.
+        let square = Contour::new([0.0, 0.0])
+            .line_to([10.0, 0.0])
+            .line_to([10.0, 10.0])
+            .line_to([0.0, 10.0])
+            .line_to([0.0, 0.0]);
+        // A quarter circle of radius 2 from the inside (left): its centre is 2 above (5, 0), it starts 2 before it.
+        let (start, arc) = square.lead_in(5.0, 2.0, 2.0, Side::Left).unwrap();
+        assert_near(start, [3.0, 2.0]);
+        assert_eq!(words(&arc), [('G', 3.0), ('X', 5.0), ('Y', 0.0), ('I', 2.0), ('J', 0.0)]);
+        // Offset 1 of radius 2: 60° of arc, starting at (5 - 2 sin 60°, 1); from the outside it is clockwise.
+        let (start, arc) = square.lead_in(45.0, 2.0, 1.0, Side::Right).unwrap();
+        let s = 3f64.sqrt();
+        assert_near(start, [5.0 - s, -1.0]);
+        let centre_from_start = [5.0 - start[0], -2.0 - start[1]];
+        let w = words(&arc);
+        assert_eq!(w[..3], [('G', 2.0), ('X', 5.0), ('Y', 0.0)]);
+        assert!((w[3].1 - centre_from_start[0]).abs() < 1e-9 && (w[4].1 - centre_from_start[1]).abs() < 1e-9);
+        // Out at the same place: from (5, 0) ahead and up to (7, 2).
+        let (arc, end) = square.lead_out(5.0, 2.0, 2.0, Side::Left).unwrap();
+        assert_near(end, [7.0, 2.0]);
+        assert_eq!(words(&arc), [('G', 3.0), ('X', 7.0), ('Y', 2.0), ('I', 0.0), ('J', 2.0)]);
+        // At the start's corner a lead-in follows the bottom, a lead-out the left side coming down.
+        let (start, _) = square.lead_in(0.0, 1.0, 1.0, Side::Left).unwrap();
+        assert_near(start, [-1.0, 1.0]);
+        let (_, end) = square.lead_out(40.0, 1.0, 1.0, Side::Left).unwrap();
+        assert_near(end, [1.0, -1.0]);
+        // On a circle the lead meets the arc's tangent: round (0, 0) from (0, -5), going +X.
+        let circle = Contour::circle([0.0, 0.0], [0.0, -5.0], false);
+        let (start, arc) = circle.lead_in(0.0, 2.0, 2.0, Side::Left).unwrap();
+        assert_near(start, [-2.0, -3.0]);
+        assert_eq!(words(&arc), [('G', 3.0), ('X', 0.0), ('Y', -5.0), ('I', 2.0), ('J', 0.0)]);
+        // A quarter lap on, at (5, 0), a clockwise circle goes -Y: its left is +X.
+        let cw = Contour::circle([0.0, 0.0], [5.0, 0.0], true);
+        let (_, end) = cw.lead_out(0.0, 1.0, 1.0, Side::Left).unwrap();
+        assert_near(end, [6.0, -1.0]);
+        assert!(square.lead_in(5.0, 1.0, 2.0, Side::Left).unwrap_err().contains("at most its radius"));
+        assert!(square.lead_in(5.0, 0.0, 0.0, Side::Left).unwrap_err().contains("radius above 0"));
     }
 
     #[test]

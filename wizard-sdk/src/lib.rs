@@ -8,7 +8,8 @@
 //! [`call`]; [`entry`] takes a cutter down into material by a ramp or a
 //! helix instead of a plunge, [`contour`] follows a closed path of lines and
 //! arcs at heights that change along it (ramps along the path, holding
-//! tabs), and [`holes`] drills as G81, G83 or G73 would.
+//! tabs) and joins it by tangent lead-in and lead-out arcs, and [`holes`]
+//! drills as G81, G83 or G73 would.
 //!
 //! ```no_run
 //! use ger_wizard_sdk::*;

@@ -10,11 +10,13 @@
 //! tool gets down to a level by a ramp along the innermost ring, or by a
 //! helix in the middle, no steeper than RAMP degrees (default 3), never
 //! straight down. The rings stop ALLOWANCE (default 0) short of the walls,
-//! and a finishing ring then cuts the walls exactly, at every level. The
+//! and a finishing ring then cuts the walls exactly, at every level, joined
+//! from the outermost ring by tangent arcs in the middle of the bottom wall
+//! (lead-in and lead-out), so it leaves no mark where it starts and ends. The
 //! tool's centre stays its radius from the walls. Afterwards the tool is
 //! back at the call's position, in the call's modes.
 
-use ger_wizard_sdk::contour::{Contour, Heights};
+use ger_wizard_sdk::contour::{Contour, Heights, Side};
 use ger_wizard_sdk::*;
 
 /// The default distance between rings, as a fraction of the diameter.
@@ -138,10 +140,8 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement
     let mut insets: Vec<f64> = (0..=steps)
         .map(|k| if steps == 0 { innermost } else { innermost - spacing * f64::from(k) / f64::from(steps) })
         .collect();
-    if cut.allowance > 0.0 {
-        insets.push(finish);
-    }
     let rings: Vec<Contour> = insets.iter().map(|&inset| ring(low, high, cut.corner, inset)).collect();
+    let finishing = (cut.allowance > 0.0).then(|| Finishing::new(ring(low, high, cut.corner, finish), length, cut));
     let middle = [x0 + length / 2.0, y0 + width / 2.0];
     let helix_radius = half - innermost;
     let helix_start = [middle[0] + helix_radius.min(r), middle[1]];
@@ -150,7 +150,7 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement
     let mut out = vec![comment(format!(
         "Pocket {length} x {width} x {depth}: {} levels of {} rings, tool diameter {}",
         levels.len(),
-        rings.len(),
+        rings.len() + usize::from(finishing.is_some()),
         cut.diameter
     ))];
     let first = rings[0].start();
@@ -189,11 +189,60 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement
             }
             out.extend(ring.follow(0.0, ring.length(), &Heights::level(z))?);
         }
+        if let Some(finishing) = &finishing {
+            out.extend(finishing.at_level(z)?);
+        }
         above = z;
     }
     out.push(g0().z(top).into());
     out.push(g0().xy(x0, y0).into());
     Ok(out)
+}
+
+/// The ring that cuts the walls exactly, after the rough ones left the
+/// allowance on them.
+struct Finishing {
+    ring: Contour,
+    /// Where the leads join it: the middle of its bottom side.
+    joined_at: f64,
+    /// The leads' radius; `None` where the bottom side has no room for
+    /// them, and the ring is reached straight from the outermost rough one.
+    lead: Option<f64>,
+    allowance: f64,
+}
+
+impl Finishing {
+    fn new(ring: Contour, length: f64, cut: &Cut) -> Finishing {
+        let (r, a) = (cut.diameter / 2.0, cut.allowance);
+        // The leads start and end on the outermost rough ring's bottom side, `a`
+        // in from the finishing one: an arc of radius R that starts `a` from
+        // its tangent runs sqrt(2Ra - a²) along it, which must stay on that
+        // straight side (from the middle, `room` either way).
+        let room = length / 2.0 - cut.corner.max(r + a);
+        let lead = (room >= a).then(|| r.max(a).min((room * room + a * a) / (2.0 * a)));
+        let joined_at = length / 2.0 - cut.corner.max(r);
+        Finishing { ring, joined_at, lead, allowance: a }
+    }
+
+    /// The finishing ring at `z`, from the outermost rough ring's start
+    /// (where its lap ended) and back onto its line.
+    fn at_level(&self, z: f64) -> Result<Vec<Statement>, String> {
+        let lap = self.ring.length();
+        let level = Heights::level(z);
+        let Some(radius) = self.lead else {
+            let [x, y] = self.ring.start();
+            let mut out = vec![g1().xy(x, y).into()];
+            out.extend(self.ring.follow(0.0, lap, &level)?);
+            return Ok(out);
+        };
+        let at = self.joined_at;
+        let (start, lead_in) = self.ring.lead_in(at, radius, self.allowance, Side::Left)?;
+        let (lead_out, _) = self.ring.lead_out(at + lap, radius, self.allowance, Side::Left)?;
+        let mut out = vec![g1().xy(start[0], start[1]).into(), lead_in];
+        out.extend(self.ring.follow(at, at + lap, &level)?);
+        out.push(lead_out);
+        Ok(out)
+    }
 }
 
 export_wizard!(Pocket);
