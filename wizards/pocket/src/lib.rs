@@ -137,7 +137,7 @@ pub fn plan(corner: [f64; 3], size: [f64; 3], cut: &Cut) -> Result<Vec<Statement
     let innermost = (half - INNERMOST * r).max(outermost).min(half - 1e-6);
     let spacing = innermost - outermost;
     let steps = (spacing / cut.stepover).ceil() as u32;
-    let mut insets: Vec<f64> = (0..=steps)
+    let insets: Vec<f64> = (0..=steps)
         .map(|k| if steps == 0 { innermost } else { innermost - spacing * f64::from(k) / f64::from(steps) })
         .collect();
     let rings: Vec<Contour> = insets.iter().map(|&inset| ring(low, high, cut.corner, inset)).collect();
