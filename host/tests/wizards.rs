@@ -945,9 +945,24 @@ fn the_examples_in_other_languages_build_from_the_default_folder() {
     for built in ["built wizards/circle.wasm", "built wizards/slot.wasm"] {
         assert!(err.contains(built), "{err}");
     }
-    let (lines, diagnostics) = run("wizards", &mm(""), "G21 G90\nG00 X0 Y0 Z1\nF100\nCircle 5 1\nM30\n");
+    // Circle, on the JavaScript SDK: a helix round the groove (radius 5: a
+    // turn is 10π, at 3° it may drop 1.647, so 1 deep is one turn), then a
+    // level turn; never straight down.
+    let endmill = mm("[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 4\n");
+    let (lines, diagnostics) = run("wizards", &endmill, "G21 G90\nM06 T1\nG00 X0 Y0 Z0\nF100\nCircle 5 1\nM30\n");
     assert!(diagnostics.is_empty(), "{diagnostics:?}");
-    assert!(lines.iter().any(|l| l.starts_with("G02") || l.starts_with("G03")), "{lines:?}");
+    let arcs: Vec<&String> = lines.iter().filter(|l| l.starts_with("G03")).collect();
+    assert_eq!(arcs.len(), 2, "{lines:?}");
+    assert!(arcs[0].contains("X5.0000 Y0.0000 Z-1.0000 I-5.0000 J0.0000"), "{lines:?}");
+    assert!(!lines.iter().any(|l| l.starts_with("G01") && l.contains('Z')), "{lines:?}");
+    // The SDK's argument checks, in JavaScript: the count, and the parameter by name.
+    for (call, words) in [
+        ("Circle 5", "Circle takes 2 arguments, not 1 (usage: Circle RADIUS DEPTH)"),
+        ("Circle 5 \"deep\"", "DEPTH (argument 2) must be a number, not the text \"deep\""),
+    ] {
+        let (_, diagnostics) = run("wizards", &endmill, &format!("G21 G90\nM06 T1\nF100\n{call}\nM30\n"));
+        assert!(diagnostics.len() == 1 && diagnostics[0].contains(words), "{call}: {diagnostics:?}");
+    }
 }
 
 #[test]

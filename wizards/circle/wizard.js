@@ -1,60 +1,38 @@
 // Circle RADIUS DEPTH: mills a circular groove centred on the current position.
 //
-// A ger wizard in JavaScript, built by `ger wizard build circle` with jco
-// (QuickJS backend). The module exports the world `ger:wizard/wizard`'s
-// functions (see wit/wizard.wit): `describe` and `expand`. Variants are
-// `{ tag, val }` objects, records are objects with camelCase fields, options
-// are a value or `undefined`, and a thrown string is the call's error.
-import { log } from "ger:wizard/host@0.2.0";
+// A ger wizard in JavaScript on ger's JavaScript SDK (`ger_wizard`), built by
+// `ger wizard build circle`: esbuild bundles the two, jco's QuickJS backend
+// makes the component. The SDK checks the arguments against the description
+// (errors name the parameter and show the usage), builds the blocks, and
+// brings the cutter down by a helix along the groove instead of a plunge.
 
-const USAGE = "Circle RADIUS DEPTH";
-const PARAMS = ["RADIUS", "DEPTH"];
+import { Description, comment, exportWizard, g0, helix, inAbsolute, log, requireCutter } from "ger_wizard";
+import { DEFAULT_ENTRY_ANGLE, WizardError } from "ger_wizard";
 
-function word(letter, value) {
-  return { letter, value };
-}
+const Circle = {
+  describe: () =>
+    new Description("Circle", "mills a circular groove of the given radius around the current position", "Circle RADIUS DEPTH")
+      .param("RADIUS", "radius of the tool's centre path")
+      .param("DEPTH", "depth below the current Z"),
 
-function block(...words) {
-  return { tag: "words", val: words };
-}
+  expand(args, state) {
+    const radius = args.positive(0);
+    const depth = args.positive(1);
+    requireCutter(state, "a groove needs an end mill");
+    if (state.feed === undefined) throw new WizardError("no feed rate is set: give an F before calling Circle");
+    if (state.plane !== "xy") throw new WizardError("Circle cuts in the XY plane: call it under G17");
+    log(`circle of radius ${radius} at line ${state.line}`);
+    const { x, y, z } = state;
+    // Down round the groove itself, counter-clockwise, then a level lap.
+    const start = [x + radius, y];
+    const moves = [
+      g0().xy(...start),
+      ...helix([x, y], start, z, z - depth, DEFAULT_ENTRY_ANGLE, false, state.feed),
+      g0().z(z),
+      g0().xy(x, y),
+    ];
+    return [comment(`Circle radius ${radius}, ${depth} deep`), ...inAbsolute(state, moves)];
+  },
+};
 
-function positive(args, i) {
-  const what = `${PARAMS[i]} (argument ${i + 1})`;
-  const arg = args[i];
-  if (arg === undefined) throw `${what} is missing (usage: ${USAGE})`;
-  if (arg.tag !== "number") throw `${what} must be a number, not the text "${arg.val}"`;
-  if (!(arg.val > 0)) throw `${what} must be greater than 0, not ${arg.val}`;
-  return arg.val;
-}
-
-export function describe() {
-  return {
-    name: "Circle",
-    summary: "mills a circular groove of the given radius around the current position",
-    usage: USAGE,
-    params: [
-      { name: "RADIUS", description: "radius of the tool's centre path", optional: false },
-      { name: "DEPTH", description: "depth below the current Z", optional: false },
-    ],
-  };
-}
-
-export function expand(args, state) {
-  if (args.length !== PARAMS.length) throw `Circle takes 2 arguments, not ${args.length} (usage: ${USAGE})`;
-  const radius = positive(args, 0);
-  const depth = positive(args, 1);
-  if (state.feed === undefined) throw "no feed rate is set: give an F before calling Circle";
-  if (state.plane !== "xy") throw "Circle cuts in the XY plane: call it under G17";
-  log(`circle of radius ${radius} at line ${state.line}`);
-  const { x, y, z } = state;
-  const out = [{ tag: "comment", val: `Circle radius ${radius}, ${depth} deep` }];
-  if (state.distance === "incremental") out.push(block(word("G", 90)));
-  out.push(block(word("G", 0), word("X", x + radius), word("Y", y)));
-  out.push(block(word("G", 1), word("Z", z - depth), word("F", state.feed)));
-  // A full circle counter-clockwise: the centre is at I = -RADIUS from the start.
-  out.push(block(word("G", 3), word("X", x + radius), word("Y", y), word("I", -radius), word("J", 0)));
-  out.push(block(word("G", 0), word("Z", z)));
-  out.push(block(word("G", 0), word("X", x), word("Y", y)));
-  if (state.distance === "incremental") out.push(block(word("G", 91)));
-  return out;
-}
+export const { describe, expand } = exportWizard(Circle);

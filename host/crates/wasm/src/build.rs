@@ -1,11 +1,13 @@
 //! Building wizards from source, with no set-up by hand.
 //!
 //! A folder in the wizards directory is a wizard's source if it holds
-//! `Cargo.toml` (Rust, on `wizard-sdk`), `app.py` (Python, componentize-py)
-//! or `wizard.js` (JavaScript, jco with QuickJS). Building it writes
-//! `NAME.wasm` beside the folder. The tools a build needs are fetched once
-//! into the wizards directory's `target/ger/` from the pinned lists in
-//! `toolchain/` (a venv for componentize-py, an npm tree for jco), and the
+//! `Cargo.toml` (Rust, on `wizard-sdk`), `app.py` (Python, componentize-py,
+//! with the SDK's `ger_wizard.py` beside it) or `wizard.js` (JavaScript:
+//! esbuild bundles it with the SDK's `ger_wizard.js`, as jco takes one
+//! module, then jco with QuickJS). Building it writes `NAME.wasm` beside
+//! the folder. The tools a build needs are fetched once into the wizards
+//! directory's `target/ger/` from the pinned lists in `toolchain/` (a venv
+//! for componentize-py, an npm tree for esbuild and jco), and the
 //! `wasm32-wasip2` Rust target is added with rustup when it is missing.
 //!
 //! Builds of one directory take a file lock, so two gers starting at once
@@ -28,6 +30,8 @@ const WORLD: &str = "ger:wizard/wizard";
 const REQUIREMENTS: &str = include_str!("toolchain/requirements.txt");
 /// The Python face of the SDK, put beside every Python wizard built.
 const PYTHON_SDK: &str = include_str!("../../../../wizard-sdk/python/ger_wizard.py");
+/// The JavaScript face of the SDK, bundled with every JavaScript wizard built.
+const JS_SDK: &str = include_str!("../../../../wizard-sdk/js/ger_wizard.js");
 const PACKAGE_JSON: &str = include_str!("toolchain/package.json");
 const PACKAGE_LOCK: &str = include_str!("toolchain/package-lock.json");
 const RUST_TARGET: &str = "wasm32-wasip2";
@@ -95,9 +99,14 @@ pub fn stale(source: &Source, wasm: &Path) -> bool {
     if source.language == Language::Rust {
         dirs.extend(path_dependencies(&source.dir));
     }
-    // Built with another ger's Python SDK, or none.
-    let python_sdk = wasm.with_file_name("target").join("ger").join("python").join("ger_wizard.py");
-    if source.language == Language::Python && std::fs::read_to_string(python_sdk).ok().as_deref() != Some(PYTHON_SDK) {
+    // Built with another ger's SDK, or none.
+    let ger = wasm.with_file_name("target").join("ger");
+    let sdk = match source.language {
+        Language::Rust => None,
+        Language::Python => Some((ger.join("python").join("ger_wizard.py"), PYTHON_SDK)),
+        Language::JavaScript => Some((ger.join("js").join("sdk").join("ger_wizard.js"), JS_SDK)),
+    };
+    if sdk.is_some_and(|(path, text)| std::fs::read_to_string(path).ok().as_deref() != Some(text)) {
         return true;
     }
     dirs.iter().any(|dir| newest(dir).is_some_and(|t| t > built))
@@ -319,26 +328,41 @@ fn build_python(source: &Source, ger: &Path, out: &Path, progress: &mut Progress
 
 fn build_javascript(source: &Source, ger: &Path, out: &Path, progress: &mut Progress) -> Result<(), BuildError> {
     let js = ger.join("js");
-    let jco = js.join("node_modules").join(".bin").join("jco");
+    let bin = js.join("node_modules").join(".bin");
+    let (jco, esbuild) = (bin.join("jco"), bin.join("esbuild"));
     let changed = write_if_changed(&js.join("package.json"), PACKAGE_JSON)?
         | write_if_changed(&js.join("package-lock.json"), PACKAGE_LOCK)?;
-    if changed || !jco.is_file() {
-        progress("installing jco (once) into the wizards directory's target/");
+    if changed || !jco.is_file() || !esbuild.is_file() {
+        progress("installing esbuild and jco (once) into the wizards directory's target/");
         // `npm install` follows the lock file; `npm ci` would refuse it, as
         // npm leaves other platforms' optional packages out of the lock.
         run(
             Command::new("npm")
                 .args(["install", "--no-save", "--no-audit", "--no-fund", "--loglevel=error"])
                 .current_dir(&js),
-            "npm could not install jco",
+            "npm could not install esbuild and jco",
             "JavaScript wizards need Node.js 18 or newer with npm",
         )?;
     }
+    // `import ... from "ger_wizard"` finds the SDK as a package would be found.
+    let sdk = js.join("sdk");
+    write_if_changed(&sdk.join("ger_wizard.js"), JS_SDK)?;
+    let name = source.dir.file_name().map_or_else(|| "wizard".into(), |n| n.to_string_lossy().into_owned());
+    let bundle = js.join("bundles").join(format!("{name}.js"));
+    run(
+        Command::new(&esbuild)
+            .arg(source.dir.join("wizard.js"))
+            .args(["--bundle", "--format=esm", "--platform=neutral", "--external:ger:*", "--log-level=warning"])
+            .arg(format!("--outfile={}", bundle.display()))
+            .env("NODE_PATH", &sdk),
+        "esbuild could not bundle the wizard",
+        "",
+    )?;
     let wit = wit_dir(ger)?;
     run(
         Command::new(&jco)
             .arg("componentize")
-            .arg(source.dir.join("wizard.js"))
+            .arg(&bundle)
             .arg("--wit")
             .arg(&wit)
             .args(["-n", "wizard", "--backend", "quickjs", "--backend-qjs-disable-async", "-o"])
@@ -367,6 +391,28 @@ mod tests {
             panic!("statement is a variant")
         };
         (functions, variant.cases.iter().map(|case| case.name.clone()).collect())
+    }
+
+    #[test]
+    fn the_javascript_sdk_offers_all_the_contract_does() {
+        let (functions, cases) = contract();
+        assert!(JS_SDK.contains("from \"ger:wizard/host@0.2.0\""), "ger_wizard.js imports another host");
+        for function in functions {
+            // jco names `find-tool` findTool.
+            let mut parts = function.split('-');
+            let first = parts.next().unwrap().to_string();
+            let js = parts.fold(first, |name, part| name + &part[..1].to_uppercase() + &part[1..]);
+            assert!(
+                JS_SDK.contains(&format!("export const {js} = (")) && JS_SDK.contains(&format!("host.{js}(")),
+                "ger_wizard.js has no wrapper of the host's `{function}`"
+            );
+        }
+        for case in cases {
+            assert!(JS_SDK.contains(&format!("tag: \"{case}\"")), "ger_wizard.js never makes a `{case}` statement");
+        }
+        for export in ["describe() {", "expand(args, state) {"] {
+            assert!(JS_SDK.contains(export), "ger_wizard.js's exportWizard lacks `{export}`");
+        }
     }
 
     #[test]
