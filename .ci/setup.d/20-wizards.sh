@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Wizards: the tests build Rust, Python and JavaScript wizards through
 # `ger wizard build`'s own code, which installs componentize-py (pip, into a
-# venv) and jco (npm) under each wizards directory's target/. What that code
+# venv) and esbuild and jco (npm) under each wizards directory's target/. What that code
 # cannot install itself is checked here: the wasm32-wasip2 Rust target
 # (ger adds it with rustup, done here once so a failure shows early),
 # python3 with venv, and node with npm.
