@@ -269,6 +269,35 @@ fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
 }
 
 #[test]
+fn the_lenient_dialects_calls_are_timed_as_pass_00s_are() {
+    // The same five 2.1 s lines, in LinuxCNC's o-word sub and a Fanuc
+    // program that the interpreter stage runs: each call's time is its
+    // two lines', counted at the call's line, which is reached when the
+    // line before it is done.
+    let program = "o10 sub\nG01 X0\nG01 X100\no10 endsub\nG21\nG01 X100 F3000\no10 call\nM06 T2\nM98 P20\nM30\n\
+                   O20\nG01 X0\nG01 X100\nM99\n";
+    let mut config = config();
+    config.dialect.name = ger_core::statement::Dialect::Lenient;
+    config.tools.push(Tool { number: 2, ..config.tools[0].clone() });
+    let stock = Stock::from_config(&config).unwrap();
+    let sim = Simulation::new(stock, 1.0, 1 << 30).unwrap();
+    let mut checker = Checker::new(&config, sim, &[]).timing_lines();
+    for statement in testing::statements_with(program, &config) {
+        checker.statement(&statement);
+    }
+    let verdict = checker.finish();
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
+    assert!(near(verdict.summary.planned.seconds, 5.0 * 2.1), "{:?}", verdict.summary.planned);
+    let calls: Vec<(&str, u32, f64)> =
+        verdict.summary.planned.calls.iter().map(|c| (c.name.as_str(), c.line, c.seconds)).collect();
+    assert_eq!(calls.len(), 2, "{calls:?}");
+    assert!(calls[0].0.eq_ignore_ascii_case("o10") && calls[0].1 == 7 && near(calls[0].2, 4.2), "{calls:?}");
+    assert!(calls[1].0 == "O20" && calls[1].1 == 9 && near(calls[1].2, 4.2), "{calls:?}");
+    let (call, tool_change, fanuc_call) = (verdict.line_times[6], verdict.line_times[7], verdict.line_times[8]);
+    assert!(near(call, 2.1) && near(tool_change, 6.3) && near(fanuc_call, 6.3), "{:?}", verdict.line_times);
+}
+
+#[test]
 fn statements_from_calls_belong_to_the_outermost_call() {
     use ger_core::diag::{Origin, Span};
     use std::sync::Arc;

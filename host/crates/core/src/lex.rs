@@ -6,8 +6,9 @@
 //! between lines is "inside a comment since line L".
 
 use std::io::BufRead;
+use std::sync::Arc;
 
-use crate::diag::{Diagnostic, Span};
+use crate::diag::{Diagnostic, Origin, Span};
 use crate::macros::control::{self, Control, Keyword};
 use crate::macros::expr::{self, Expr, Param, Reader};
 use crate::statement::Dialect;
@@ -42,6 +43,10 @@ pub struct Token {
 pub enum Lexed {
     Token(Token),
     Diagnostic(Diagnostic),
+    /// From the interpreter stage, never the lexer: the statements after it
+    /// run in this call of a subprogram (the calls it is in its parents), or
+    /// in none, until the next.
+    Origin(Option<Arc<Origin>>),
 }
 
 /// What the lexer makes: a token or a diagnostic, or, in the lenient
@@ -1039,6 +1044,7 @@ mod tests {
                     format!("{}:{}+{} {kind}", s.line, s.col, s.len)
                 }
                 Lexed::Diagnostic(d) => format!("{d}"),
+                Lexed::Origin(_) => "origin".to_string(),
             })
             .collect()
     }
@@ -1080,6 +1086,7 @@ mod tests {
             .map(|item| match item {
                 Lexed::Token(t) => format!("{:?}", t.kind),
                 Lexed::Diagnostic(d) => format!("{d}"),
+                Lexed::Origin(_) => "origin".to_string(),
             })
             .collect();
         assert_eq!(
@@ -1173,6 +1180,7 @@ mod tests {
                 .map(|item| match item {
                     Lexed::Token(t) => format!("{}:{} {:?}", t.span.line, t.span.col, t.kind),
                     Lexed::Diagnostic(d) => d.to_string(),
+                    Lexed::Origin(_) => "origin".to_string(),
                 })
                 .collect()
         };
@@ -1202,6 +1210,7 @@ mod tests {
                 .map(|item| match item {
                     Lexed::Token(t) => format!("{}:{} {:?}", t.span.line, t.span.col, t.kind),
                     Lexed::Diagnostic(d) => d.to_string(),
+                    Lexed::Origin(_) => "origin".to_string(),
                 })
                 .collect()
         };

@@ -289,11 +289,12 @@ impl Line {
     /// The program line it is.
     fn number(&self) -> u32 {
         let span = |item: &Piece| match item {
-            Piece::Lexed(Lexed::Token(token)) => token.span,
-            Piece::Lexed(Lexed::Diagnostic(diagnostic)) => diagnostic.span,
-            Piece::Macro(_, span) => *span,
+            Piece::Lexed(Lexed::Token(token)) => Some(token.span),
+            Piece::Lexed(Lexed::Diagnostic(diagnostic)) => Some(diagnostic.span),
+            Piece::Lexed(Lexed::Origin(_)) => None,
+            Piece::Macro(_, span) => Some(*span),
         };
-        self.end.as_ref().map(|end| end.span).or_else(|| self.items.first().map(span)).map_or(0, |span| span.line)
+        self.end.as_ref().map(|end| end.span).or_else(|| self.items.iter().find_map(span)).map_or(0, |span| span.line)
     }
 
     /// The whole `N` number that starts the line, if it has one: where a GOTO may jump.
@@ -349,7 +350,7 @@ impl Line {
     fn is_code(&self) -> bool {
         self.items.iter().any(|item| match item {
             Piece::Lexed(Lexed::Token(token)) => !matches!(token.kind, TokenKind::Comment(_) | TokenKind::End),
-            Piece::Lexed(Lexed::Diagnostic(_)) => false,
+            Piece::Lexed(Lexed::Diagnostic(_) | Lexed::Origin(_)) => false,
             Piece::Macro(..) => true,
         })
     }
@@ -444,6 +445,8 @@ pub struct Interpreter<'a, L> {
     /// An error came while a loop ran: the loops stop before the next step.
     stop_loops: bool,
     out: VecDeque<Lexed>,
+    /// The call the parser was last told its statements run in.
+    told_origin: Option<Arc<Origin>>,
     done: bool,
     /// The text of the lines read, for a backward GOTO to read again.
     history: Option<SharedHistory>,
@@ -516,6 +519,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             blocks_run: 0,
             stop_loops: false,
             out: VecDeque::new(),
+            told_origin: None,
             done: false,
             history: None,
             replay: None,
@@ -581,6 +585,18 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     fn emit(&mut self, mut token: Token) {
         if let Some(span) = self.shown_at() {
             token.span = span;
+        }
+        // The parser tags the statements with the call they run in (for the
+        // run time by call, and the diagnostics' call chains): told only
+        // when it changes.
+        let origin = self.origin();
+        let same = match (&origin, &self.told_origin) {
+            (Some(now), Some(told)) => Arc::ptr_eq(now, told),
+            (now, told) => now.is_none() && told.is_none(),
+        };
+        if !same {
+            self.told_origin.clone_from(&origin);
+            self.out.push_back(Lexed::Origin(origin));
         }
         self.out.push_back(Lexed::Token(token));
     }
@@ -825,6 +841,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         for item in &line.items {
             match item {
                 Piece::Lexed(Lexed::Diagnostic(diagnostic)) => self.diagnostic(diagnostic.clone()),
+                Piece::Lexed(Lexed::Origin(_)) => {}
                 _ if failed.is_some() || skipped => {}
                 Piece::Lexed(Lexed::Token(token)) => tokens.push(token.clone()),
                 // Fanuc: a word whose value is vacant is not there (`G01 X#24` with no X given to

@@ -9,8 +9,9 @@
 mod block;
 
 use std::collections::HashSet;
+use std::sync::Arc;
 
-use crate::diag::{Diagnostic, Span};
+use crate::diag::{Diagnostic, Origin, Span};
 use crate::lex::{Lexed, Token, TokenKind};
 use crate::statement::{
     Axes, Cycle, CycleCode, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Offset, Plane, Reference,
@@ -58,6 +59,9 @@ pub struct Parser<L> {
     codes: CodeLists,
     /// The unknown M codes already warned about, so each is said once.
     warned: HashSet<u32>,
+    /// The call of a subprogram the interpreter stage says the statements
+    /// now run in (pass 00 tags those it runs itself).
+    origin: Option<Arc<Origin>>,
     out: std::collections::VecDeque<Event>,
     done: bool,
 }
@@ -94,6 +98,7 @@ pub fn parse_in<L: Iterator<Item = Lexed>>(tokens: L, dialect: Dialect) -> Parse
         block: Vec::new(),
         codes: CodeLists::default(),
         warned: HashSet::new(),
+        origin: None,
         out: Default::default(),
         done: false,
     }
@@ -121,6 +126,7 @@ impl<L: Iterator<Item = Lexed>> Iterator for Parser<L> {
             match self.tokens.next() {
                 Some(Lexed::Token(token)) => self.token(token),
                 Some(Lexed::Diagnostic(diagnostic)) => self.out.push_back(Event::Diagnostic(diagnostic)),
+                Some(Lexed::Origin(origin)) => self.origin = origin,
                 None => {
                     self.end_of_statement();
                     self.done = true;
@@ -213,12 +219,13 @@ impl<L> Parser<L> {
         let result = classify(group, self.dialect).and_then(|statement| self.join_g53(statement));
         match result {
             Ok(Some(statement)) => {
-                if let Some(statement) = self.unknown_m_code(statement) {
+                if let Some(mut statement) = self.unknown_m_code(statement) {
+                    statement.origin.clone_from(&self.origin);
                     self.out.push_back(Event::Statement(statement));
                 }
             }
             Ok(None) => {}
-            Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic)),
+            Err(diagnostic) => self.out.push_back(Event::Diagnostic(diagnostic.with_origin(self.origin.clone()))),
         }
     }
 
