@@ -16,6 +16,11 @@
 //! five hours, an hour of gtime: its figure is in the README). gtime runs on
 //! both cores at once.
 //!
+//! The programs past those limits are timed by hand, with the limits
+//! raised by `GER_PLAN_MOST_LINES` and `GER_PLAN_MOST_SECONDS`
+//! (`host/bench/plan-long.sh`): such a run takes only the corpus programs
+//! the default run leaves out, and its table is `tests/corpus/PLAN-LONG.md`.
+//!
 //! GRBL's clock runs from the first step to the last: ger's figure here is
 //! the same span (`planned.moving`), without a dwell before the first move
 //! or after the last. An `M00` pause waits for the operator, which gtime
@@ -42,6 +47,43 @@ const TIGER_FROM: usize = 46_100;
 const TIGER_LINES: usize = 2000;
 /// ...after a move to where line 46,100 leaves the tool.
 const TIGER_START: &str = "G17 G21 G90 G94 M3\nG0 Z5\nG0 X14.833 Y32.167\nG1 Z-20.984 F300\n";
+/// Which programs a run takes: the default's, or (limits raised by hand)
+/// the corpus programs past the default's limits and within the raised ones.
+#[derive(Clone, Copy)]
+struct Scope {
+    most_lines: usize,
+    most_seconds: f64,
+    long: bool,
+}
+
+impl Scope {
+    fn from_env() -> Scope {
+        let read =
+            |name: &str| std::env::var(name).ok().map(|v| v.parse::<f64>().unwrap_or_else(|_| panic!("{name}={v}")));
+        let (lines, seconds) = (read("GER_PLAN_MOST_LINES"), read("GER_PLAN_MOST_SECONDS"));
+        Scope {
+            most_lines: lines.map_or(MOST_LINES, |l| l as usize),
+            most_seconds: seconds.unwrap_or(MOST_SECONDS),
+            long: lines.is_some() || seconds.is_some(),
+        }
+    }
+
+    /// Whether a corpus program of `lines` lines, planned to take `seconds`, is in.
+    fn takes(&self, lines: usize, seconds: f64) -> bool {
+        let within = lines <= self.most_lines && seconds <= self.most_seconds;
+        let by_default = lines <= MOST_LINES && seconds <= MOST_SECONDS;
+        within && (by_default != self.long)
+    }
+
+    fn table_file(&self) -> &'static str {
+        if self.long {
+            "tests/corpus/PLAN-LONG.md"
+        } else {
+            "tests/corpus/PLAN.md"
+        }
+    }
+}
+
 /// The largest difference allowed, as a fraction of GRBL's time.
 const TOLERANCE: f64 = 0.02;
 /// Only for a run that hangs.
@@ -154,8 +196,23 @@ fn relative(ours: f64, theirs: f64) -> f64 {
 }
 
 /// The programs: `tests/check/`, the corpus's short ones, part of the tiger.
-fn jobs(scratch: &Path) -> Vec<Job> {
+fn jobs(scratch: &Path, scope: Scope) -> Vec<Job> {
     let mut jobs = Vec::new();
+    let corpus = corpus::dir();
+    let config = corpus::ger_config(scratch);
+    for entry in corpus::entries(&corpus) {
+        if !matches!(entry.class(), Class::Mill | Class::Macro) {
+            continue;
+        }
+        let file = corpus.join(&entry.path);
+        let lines = std::fs::read(&file).map_or(usize::MAX, |b| b.split(|c| *c == b'\n').count());
+        if lines <= scope.most_lines {
+            jobs.push(Job { name: entry.path.clone(), file, units: Some(entry.units()), config: config.clone() });
+        }
+    }
+    if scope.long {
+        return jobs;
+    }
     let cases = repository().join("tests/check");
     let mut names: Vec<PathBuf> = std::fs::read_dir(&cases)
         .unwrap()
@@ -168,18 +225,6 @@ fn jobs(scratch: &Path) -> Vec<Job> {
         let config = file.with_extension("toml");
         let name = format!("tests/check/{}", file.file_name().unwrap().to_string_lossy());
         jobs.push(Job { name, file, units: None, config });
-    }
-    let corpus = corpus::dir();
-    let config = corpus::ger_config(scratch);
-    for entry in corpus::entries(&corpus) {
-        if !matches!(entry.class(), Class::Mill | Class::Macro) {
-            continue;
-        }
-        let file = corpus.join(&entry.path);
-        let lines = std::fs::read(&file).map_or(usize::MAX, |b| b.split(|c| *c == b'\n').count());
-        if lines <= MOST_LINES {
-            jobs.push(Job { name: entry.path.clone(), file, units: Some(entry.units()), config: config.clone() });
-        }
     }
     let tiger = std::fs::read_to_string(corpus.join("camotics-examples/tiger/tiger.nc")).unwrap();
     let passes: String = tiger.lines().skip(TIGER_FROM).take(TIGER_LINES).map(|l| format!("{l}\n")).collect();
@@ -206,7 +251,8 @@ fn the_planned_time_is_grbls_within_two_percent() {
         return;
     }
     let scratch = tempfile::tempdir().unwrap();
-    let jobs = jobs(scratch.path());
+    let range = Scope::from_env();
+    let jobs = jobs(scratch.path(), range);
     // Two workers: ger's check, then gtime, one program at a time each.
     let next = Mutex::new(0);
     let rows = Mutex::new(Vec::new());
@@ -223,7 +269,7 @@ fn the_planned_time_is_grbls_within_two_percent() {
                 let Some(job) = jobs.get(index) else { break };
                 let Some(planned) = plan(job) else { continue };
                 let in_corpus = job.units.is_some() && !job.name.contains("tiger");
-                if in_corpus && planned.moving > MOST_SECONDS {
+                if in_corpus && !range.takes(planned.lines, planned.moving) {
                     continue;
                 }
                 let Some(program) = for_grbl(job) else { continue };
@@ -251,13 +297,13 @@ fn the_planned_time_is_grbls_within_two_percent() {
         gtime_wall.into_inner().unwrap().as_secs_f64()
     );
 
-    let table = table(&rows);
-    let path = repository().join("tests/corpus/PLAN.md");
+    let table = table(&rows, range);
+    let path = repository().join(range.table_file());
     if std::env::var_os("UPDATE_EXPECT").is_some() {
         std::fs::write(&path, &table).unwrap();
     }
     assert!(failures.is_empty(), "GRBL could not time {} programs:\n{}", failures.len(), failures.join("\n"));
-    assert!(rows.len() > 90, "only {} programs timed", rows.len());
+    assert!(range.long || rows.len() > 90, "only {} programs timed", rows.len());
     let off: Vec<String> = rows
         .iter()
         .filter(|r| r.error().abs() > TOLERANCE)
@@ -272,8 +318,8 @@ fn the_planned_time_is_grbls_within_two_percent() {
     );
 }
 
-/// `tests/corpus/PLAN.md`.
-fn table(rows: &[Row]) -> String {
+/// `tests/corpus/PLAN.md`, or `PLAN-LONG.md`.
+fn table(rows: &[Row], scope: Scope) -> String {
     let mean =
         |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).sum::<f64>() / rows.len().max(1) as f64;
     let worst = |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
@@ -281,15 +327,31 @@ fn table(rows: &[Row]) -> String {
     let programmed = |r: &Row| relative(r.programmed, r.grbl);
     let mut out = String::new();
     let _ = writeln!(out, "# ger's planned run time against GRBL's\n");
+    let (command, programs) = if scope.long {
+        let Scope { most_lines, most_seconds, .. } = scope;
+        (
+            format!("GER_PLAN_MOST_LINES={most_lines} GER_PLAN_MOST_SECONDS={most_seconds} host/bench/plan-long.sh"),
+            format!(
+                "the corpus's mill programs that the test leaves out (over {MOST_LINES} lines or {MOST_SECONDS} s), \
+                 of at most {most_lines} lines that take at most {most_seconds} s"
+            ),
+        )
+    } else {
+        (
+            "UPDATE_EXPECT=1 cargo test --test plan".to_string(),
+            format!(
+                "every one of `tests/check/` that translates, the corpus's mill programs of at most {MOST_LINES} \
+                 lines that take at most {MOST_SECONDS} s, and {TIGER_LINES} lines of the tiger relief's passes over \
+                 the relief, after a move to where they start"
+            ),
+        )
+    };
     let _ = writeln!(
         out,
-        "Written by `host/tests/plan.rs` (`UPDATE_EXPECT=1 cargo test --test plan`): each program translated with \
-         `ger run --target grbl` and timed by GRBL 1.1h's own planner and stepper (`../shared/peers/grbl/gtime.py`, \
-         its default profile), beside `ger check`'s planned time on the same profile (`grbl-default`, from the first \
-         move to the last, as GRBL's clock runs) and its time at programmed feeds (no acceleration). The programs: \
-         every one of `tests/check/` that translates, the corpus's mill programs of at most {MOST_LINES} lines that \
-         take at most {MOST_SECONDS} s, and {TIGER_LINES} lines of the tiger relief's passes over the relief, after a \
-         move to where they start.\n"
+        "Written by `host/tests/plan.rs` (`{command}`): each program translated with `ger run --target grbl` and \
+         timed by GRBL 1.1h's own planner and stepper (`../shared/peers/grbl/gtime.py`, its default profile), beside \
+         `ger check`'s planned time on the same profile (`grbl-default`, from the first move to the last, as GRBL's \
+         clock runs) and its time at programmed feeds (no acceleration). The programs: {programs}.\n"
     );
     let _ = writeln!(
         out,
