@@ -456,6 +456,24 @@ impl fmt::Display for Disagreement {
 /// (within the same tolerance), or a dwell of no time, on one side is passed
 /// over where the other side has no such move. A spline of rs274's stands for the feeds and arcs
 /// ger made for it: those after the previous move up to the spline's line.
+/// How far `at` is from the XY spiral LinuxCNC runs from `start` to `end`
+/// about `centre` (`turn` +1 counter-clockwise, -1 clockwise): its radius
+/// and height change evenly with the angle turned.
+fn off_spiral(start: [f64; 3], end: [f64; 3], centre: &[f64; 3], turn: i32, at: [f64; 3]) -> f64 {
+    use std::f64::consts::TAU;
+    let angle = |p: [f64; 3]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+    let radius = |p: [f64; 3]| (p[0] - centre[0]).hypot(p[1] - centre[1]);
+    let turned = |p: [f64; 3]| (f64::from(turn) * (angle(p) - angle(start))).rem_euclid(TAU);
+    let whole = match turned(end) {
+        t if t < 1e-9 => TAU,
+        t => t,
+    };
+    let fraction = (turned(at) / whole).min(1.0);
+    let expected = radius(start) + (radius(end) - radius(start)) * fraction;
+    let height = start[2] + (end[2] - start[2]) * fraction;
+    (radius(at) - expected).abs().hypot(at[2] - height)
+}
+
 pub fn compare(ger: &Moves, peer: &Moves, tolerance: f64) -> Result<Agreement, Box<Disagreement>> {
     let slack = tolerance + ger.resolution + peer.resolution;
     let mut largest: f64 = 0.0;
@@ -508,6 +526,35 @@ pub fn compare(ger: &Moves, peer: &Moves, tolerance: f64) -> Result<Agreement, B
             compared += 1;
             j += 1;
             continue;
+        }
+        if let (Kind::Feed, Kind::Arc { centre, turn }) = (&g.kind, &p.kind) {
+            // LinuxCNC's spiral (an arc whose radii differ), which ger writes
+            // as straight feeds along it: each of the line's feeds must end
+            // on it, the last where it ends.
+            if let (Some(start), Some(end), 1) = (p.start, p.end, turn.abs()) {
+                let first = i;
+                while let Some(g) = ger.moves.get(i).filter(|g| g.kind == Kind::Feed && g.line == p.line) {
+                    let at = g.end.expect("a feed has an end");
+                    let off = off_spiral(start, end, centre, *turn, at);
+                    if off > slack {
+                        return Err(part(i, j, format!("a feed ends {off:.4} mm off rs274's spiral")));
+                    }
+                    if !close_enough(g.feed, p.feed, slack) {
+                        return Err(part(i, j, format!("feeds differ along a spiral: {}", feeds(g.feed, p.feed))));
+                    }
+                    largest = largest.max(off);
+                    i += 1;
+                }
+                let last = ger.moves[i - 1].end.expect("a feed has an end");
+                if distance(&last, &end) > slack {
+                    return Err(part(i - 1, j, "the feeds along a spiral end elsewhere".into()));
+                }
+                debug_assert!(i > first);
+                previous_line = p.line;
+                compared += 1;
+                j += 1;
+                continue;
+            }
         }
         let kinds_match = match (&g.kind, &p.kind) {
             (Kind::Arc { centre: a, turn: s }, Kind::Arc { centre: b, turn: t }) => {

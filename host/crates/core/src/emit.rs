@@ -127,9 +127,12 @@ impl Emitter {
             Kind::ToolLengthRegister(h) => {
                 let _ = write!(out, "H{h}");
             }
-            Kind::CutterComp { side, d } => {
+            Kind::CutterComp { side, d, diameter } => {
                 out.push_str(if *side == Side::Left { "G41" } else { "G42" });
-                if let Some(d) = d {
+                if diameter.is_some() {
+                    out.push_str(".1");
+                    self.value(out, 'D', *diameter);
+                } else if let Some(d) = d {
                     let _ = write!(out, " D{d}");
                 }
             }

@@ -515,10 +515,12 @@ pub enum Kind {
     /// An H word with no G43/G44 (lenient dialect): a new register for the
     /// offset in force (Fanuc), or the offset applied as G43 (Fadal).
     ToolLengthRegister(u32),
-    /// G41/G42 with an optional D (tool table entry).
+    /// G41/G42 with an optional D (tool table entry), or LinuxCNC's G41.1/
+    /// G42.1 (lenient dialect) with the cutter's `diameter` given (their D).
     CutterComp {
         side: Side,
         d: Option<u32>,
+        diameter: Option<Value>,
     },
     /// G40.
     CutterCompCancel,

@@ -507,7 +507,25 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
         ('G', 410) | ('G', 420) => {
             words.only("D", &name)?;
             let side = if number == 410 { Side::Left } else { Side::Right };
-            Kind::CutterComp { side, d: words.whole('D')? }
+            Kind::CutterComp { side, d: words.whole('D')?, diameter: None }
+        }
+        ('G', 411) | ('G', 421) if dialect == Dialect::Lenient => {
+            // LinuxCNC's dynamic compensation: D is the cutter's diameter;
+            // L, a lathe tool's orientation, means nothing to a mill.
+            words.only("D", &name)?;
+            let side = if number == 411 { Side::Left } else { Side::Right };
+            let diameter = words.get('D').ok_or_else(|| {
+                Diagnostic::error(span, format!("{name} needs D: the cutter's diameter")).with_help(format!(
+                    "{name} D6 compensates for a cutter 6 across (G41/G42 D<tool> take it from the tool table)"
+                ))
+            })?;
+            if diameter.value < 0.0 {
+                return Err(Diagnostic::error(
+                    diameter.span,
+                    format!("{name}'s D is a diameter: it cannot be negative"),
+                ));
+            }
+            Kind::CutterComp { side, d: None, diameter: Some(diameter) }
         }
         ('G', 430) | ('G', 440) => {
             words.only("H", &name)?;

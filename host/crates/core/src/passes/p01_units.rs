@@ -37,7 +37,10 @@ impl Pass for Units {
             }
         };
         match &mut statement.kind {
-            Kind::CutterComp { .. } => self.comp = true,
+            Kind::CutterComp { diameter, .. } => {
+                scale(diameter);
+                self.comp = true;
+            }
             Kind::CutterCompCancel => self.comp = false,
             Kind::Units(units) if self.comp && *units != self.program => {
                 let message =

@@ -56,6 +56,10 @@ pub struct Absolute {
     warned_rotary: bool,
     /// Warnings about the statement being rewritten, given its calls after it.
     warnings: Vec<Diagnostic>,
+    /// Where the arc just rewritten started, if it is a spiral (its radii
+    /// differ by more than the output's arc tolerance, as LinuxCNC allows):
+    /// it goes out as lines along the spiral.
+    spiral_from: Option<[f64; 3]>,
 }
 
 impl Absolute {
@@ -85,6 +89,7 @@ impl Absolute {
             rotary: [None; 3],
             warned_rotary: false,
             warnings: Vec::new(),
+            spiral_from: None,
         }
     }
 
@@ -96,7 +101,11 @@ impl Absolute {
     }
 
     /// The arc's centre offsets from its start (I/J/K), or why it has none.
-    fn arc_centre(&self, motion: &mut Motion, end: [f64; 3], span: Span) -> Result<Axes, Diagnostic> {
+    /// With `spirals`, the centre of an arc whose radii differ by more than
+    /// the output's tolerance (but within LinuxCNC's) stays where it was
+    /// written, for the arc to go out as LinuxCNC's spiral; without, it moves
+    /// to where both radii are equal.
+    fn arc_centre(&self, motion: &mut Motion, end: [f64; 3], span: Span, spirals: bool) -> Result<Axes, Diagnostic> {
         let (a, b, normal) = self.plane.axes();
         let letters = ['I', 'J', 'K'];
         if let Some(v) = motion.centre.get(normal) {
@@ -160,7 +169,7 @@ impl Absolute {
         }
         let error = (start_radius - end_radius).abs();
         if error > tolerance
-            && !(self.dialect == Dialect::Lenient && error <= self.linuxcnc_arc_tolerance(start_radius))
+            && !(self.dialect == Dialect::Lenient && error <= self.linuxcnc_arc_tolerance(start_radius.max(end_radius)))
         {
             let message = format!(
                 "arc end is not on the circle: radius {start_radius:.d$} {u} at the start, {end_radius:.d$} {u} at the end"
@@ -169,7 +178,7 @@ impl Absolute {
             return Err(Diagnostic::error(span, message).with_help(help));
         }
         let mut offsets = motion.centre;
-        if error > tolerance {
+        if error > tolerance && !spirals {
             // Within LinuxCNC's tolerance but not the output's: the centre
             // moves onto the chord's bisector, the nearest point from which
             // start and end are equally far, so every controller takes it.
@@ -184,7 +193,8 @@ impl Absolute {
 
     /// How far LinuxCNC lets an arc's end be off its circle: 0.002 in (or
     /// 0.02 mm) times the square root of 2 in the program's unit, or 0.1% of
-    /// the radius up to a hundred times that, whichever is larger.
+    /// the larger of its two radii up to a hundred times that, whichever is
+    /// larger.
     fn linuxcnc_arc_tolerance(&self, radius: f64) -> f64 {
         let program = self.probe.borrow().program_units;
         let least = match program {
@@ -196,7 +206,9 @@ impl Absolute {
     }
 
     /// Rewrites a move in place. `Ok(false)`: it only set the feed, drop it.
-    fn motion(&mut self, motion: &mut Motion, span: Span) -> Result<bool, Diagnostic> {
+    /// With `spirals` (the lenient dialect's arcs that run once), an arc may
+    /// be LinuxCNC's spiral, left in `spiral_from` to go out as lines.
+    fn motion(&mut self, motion: &mut Motion, span: Span, spirals: bool) -> Result<bool, Diagnostic> {
         let mode = motion.mode.expect("pass 00 gives every move its mode");
         let given_feed = motion.feed.take();
         if let Some(f) = given_feed {
@@ -217,7 +229,17 @@ impl Absolute {
             }
         }
         if mode.is_arc() {
-            motion.centre = self.arc_centre(motion, end, span)?;
+            let spirals = spirals && self.dialect == Dialect::Lenient;
+            motion.centre = self.arc_centre(motion, end, span, spirals)?;
+            if spirals {
+                let (a, b, _) = self.plane.axes();
+                let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
+                let centre = [self.position[a] + offset(a), self.position[b] + offset(b)];
+                let radius = |p: [f64; 3]| (p[a] - centre[0]).hypot(p[b] - centre[1]);
+                if (radius(self.position) - radius(end)).abs() > self.units.arc_tolerance() {
+                    self.spiral_from = Some(self.position);
+                }
+            }
             motion.radius = None;
             // An arc states both of its plane's axes, whatever was written.
             let (a, b, _) = self.plane.axes();
@@ -338,6 +360,34 @@ fn no_feed(code: &str, span: Span) -> Diagnostic {
 }
 
 /// The point nearest `centre` on the perpendicular bisector of `start` and `end`.
+/// The most pieces a spiral is cut into, whatever its size: a spiral
+/// LinuxCNC takes is at most a few mm off a circle, so only an absurdly
+/// large one (a radius of kilometres) would need more.
+const MOST_SPIRAL_PIECES: f64 = 100_000.0;
+
+/// Points along a spiral in its plane (the third coordinate its height,
+/// changing evenly), from `start` (not included) to `end` (included) about
+/// `centre`: the radius changes evenly with the angle turned, and the chord
+/// between two points is no further than `tolerance` from the spiral.
+fn spiral_points(start: [f64; 3], end: [f64; 3], centre: [f64; 2], ccw: bool, tolerance: f64) -> Vec<[f64; 3]> {
+    let (from, sweep) = arc_sweep((start[0], start[1]), (end[0], end[1]), (centre[0], centre[1]), ccw);
+    let radii = [start, end].map(|p| (p[0] - centre[0]).hypot(p[1] - centre[1]));
+    let largest = radii[0].max(radii[1]);
+    // A chord of angle t is r (1 - cos(t / 2)) from its arc at most.
+    let step = 2.0 * (1.0 - (tolerance / largest).min(1.0)).acos();
+    let pieces = (sweep.abs() / step).ceil().clamp(1.0, MOST_SPIRAL_PIECES) as usize;
+    (1..=pieces)
+        .map(|k| {
+            if k == pieces {
+                return end;
+            }
+            let t = k as f64 / pieces as f64;
+            let (angle, radius) = (from + sweep * t, radii[0] + (radii[1] - radii[0]) * t);
+            [centre[0] + radius * angle.cos(), centre[1] + radius * angle.sin(), start[2] + (end[2] - start[2]) * t]
+        })
+        .collect()
+}
+
 fn nearest_equidistant(start: (f64, f64), end: (f64, f64), centre: (f64, f64)) -> (f64, f64) {
     let mid = ((start.0 + end.0) / 2.0, (start.1 + end.1) / 2.0);
     let (dx, dy) = (end.0 - start.0, end.1 - start.1);
@@ -438,8 +488,12 @@ impl Absolute {
             }
             // The output starts in G17; repeating the plane in force says nothing.
             Kind::Plane(plane) if std::mem::replace(&mut self.plane, *plane) == *plane => return,
-            Kind::Motion(motion) => match self.motion(motion, statement.span) {
-                Ok(true) => {}
+            Kind::Motion(motion) => match self.motion(motion, statement.span, true) {
+                Ok(true) => {
+                    if let Some(start) = self.spiral_from.take() {
+                        return self.spiral(start, &statement, out);
+                    }
+                }
                 Ok(false) => return,
                 Err(diagnostic) => return out.error(&statement, diagnostic),
             },
@@ -552,7 +606,7 @@ impl Absolute {
             Kind::MachineMove(motion) => {
                 // Machine coordinates are absolute whatever G90/G91 says.
                 let distance = std::mem::replace(&mut self.distance, Distance::Absolute);
-                let result = self.motion(motion, statement.span);
+                let result = self.motion(motion, statement.span, false);
                 self.distance = distance;
                 let motion = std::mem::take(motion);
                 match result {
@@ -566,6 +620,36 @@ impl Absolute {
         out.push(statement);
     }
 
+    /// An arc rewritten by [`Absolute::motion`] that is a spiral, from
+    /// `start`: it goes out as straight feeds along the spiral LinuxCNC
+    /// runs, its radius changing evenly with the angle from the start's to
+    /// the end's (and its helix's height too), no further than the output's
+    /// arc tolerance from it, as no controller's G02/G03 draws a spiral.
+    fn spiral(&mut self, start: [f64; 3], arc: &Statement, out: &mut Out) {
+        let Kind::Motion(motion) = &arc.kind else { unreachable!("a spiral is an arc") };
+        let (a, b, normal) = self.plane.axes();
+        let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
+        let end = self.position;
+        let ccw = motion.mode == Some(MotionMode::ArcCcw);
+        let points = spiral_points(
+            [start[a], start[b], start[normal]],
+            [end[a], end[b], end[normal]],
+            [start[a] + offset(a), start[b] + offset(b)],
+            ccw,
+            // Half the tolerance: the written digits' rounding has the rest.
+            self.units.arc_tolerance() / 2.0,
+        );
+        for (k, point) in points.into_iter().enumerate() {
+            let mut target = Axes::default();
+            for (axis, value) in [(a, point[0]), (b, point[1]), (normal, point[2])] {
+                *target.slot(axis) = Some(Value { value, span: arc.span });
+            }
+            let feed = if k == 0 { motion.feed } else { None };
+            let line = Motion { mode: Some(MotionMode::Linear), target, feed, ..Motion::default() };
+            out.push(arc.with_kind(Kind::Motion(Box::new(line))));
+        }
+    }
+
     /// LinuxCNC's `G02 ... P n`: the arc goes round n - 1 more times before
     /// it ends, its helix spread evenly over the whole turn. It comes out as
     /// n - 1 full circles about its centre and then the arc as written, each
@@ -574,7 +658,7 @@ impl Absolute {
         let start = self.position;
         let mut arc = statement.clone();
         let Kind::Motion(motion) = &mut arc.kind else { unreachable!("an arc's turns") };
-        match self.motion(motion, statement.span) {
+        match self.motion(motion, statement.span, false) {
             Ok(true) => {}
             Ok(false) => return,
             Err(diagnostic) => return out.error(&statement, diagnostic),
@@ -778,6 +862,52 @@ G91 G02 I-10 Z-0.2 L3 F100",
                 assert!(refused, "{program} on a {machine:?} machine: {got:?}");
             }
         }
+    }
+
+    #[test]
+    fn the_lenient_dialect_takes_an_arc_within_a_thousandth_of_its_larger_radius_as_linuxcncs_spiral() {
+        // LinuxCNC's relative error is the radii's difference over the larger
+        // of the two. About (999.5, 0) from the origin to (2000, 0): radii
+        // 999.5 and 1000.5, 1 mm apart, a thousandth of 1000.5 less a hair
+        // (under the 100 x 0.0283 mm cap): LinuxCNC takes it, and runs a
+        // spiral whose radius grows evenly with the angle, clockwise over the
+        // top, Z going down with it. 2000.002 makes the radii 1.002 apart, over
+        // a thousandth of 1000.502: refused.
+        use crate::statement::Dialect;
+        let lenient = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let arc = |end: &str| run_with(&format!("G21 G17\nG00 X0 Y0 Z0\nG02 X{end} Z-2 I999.5 F100"), &lenient, 4);
+        let taken = arc("2000");
+        let points: Vec<[f64; 3]> = taken[1..]
+            .iter()
+            .map(|line| {
+                assert!(line.starts_with("G01 "), "{taken:?}");
+                let word = |l: char| line.split(' ').find_map(|w| w.strip_prefix(l)).unwrap().parse::<f64>().unwrap();
+                [word('X'), word('Y'), word('Z')]
+            })
+            .collect();
+        assert!(points.len() > 100, "{taken:?}");
+        assert_eq!(points.last(), Some(&[2000.0, 0.0, -2.0]));
+        let mut last = [0.0, 0.0, 0.0];
+        for p in points {
+            let angle = p[1].atan2(p[0] - 999.5);
+            let turned = std::f64::consts::PI - angle;
+            let radius = 999.5 + turned / std::f64::consts::PI;
+            // On the spiral (to the output's 3 decimals), at the height it has come down to.
+            assert!(((p[0] - 999.5).hypot(p[1]) - radius).abs() < 0.001, "{p:?}");
+            assert!((p[2] + 2.0 * turned / std::f64::consts::PI).abs() < 0.001, "{p:?}");
+            // A chord's middle no further than the output's 0.01 mm from the spiral.
+            let middle = [(p[0] + last[0]) / 2.0, (p[1] + last[1]) / 2.0];
+            let (mid_angle, mid_radius) = (middle[1].atan2(middle[0] - 999.5), (middle[0] - 999.5).hypot(middle[1]));
+            let on_spiral = 999.5 + (std::f64::consts::PI - mid_angle) / std::f64::consts::PI;
+            assert!((mid_radius - on_spiral).abs() <= 0.01, "{last:?} -> {p:?}");
+            assert!(p[1] >= 0.0, "clockwise from the left goes over the top: {p:?}");
+            last = p;
+        }
+        let refused = arc("2000.002");
+        assert!(refused.iter().any(|l| l.contains("error: arc end is not on the circle")), "{refused:?}");
+        // Radii within the output's tolerance (0.008 apart) leave the arc an arc, as written.
+        let near = run_with("G21 G17\nG00 X0 Y0\nG02 X2 I1.004 F100", &lenient, 4);
+        assert!(near[1].starts_with("G02 X2.000 Y0.000 I1.004 J0.000"), "{near:?}");
     }
 
     #[test]

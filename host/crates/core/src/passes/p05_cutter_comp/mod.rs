@@ -191,7 +191,7 @@ impl CutterComp {
     }
 
     /// Turns G41/G42 on: checks, then waits for the first move to step out.
-    fn comp_on(&mut self, statement: Statement, side: Side, d: Option<u32>, out: &mut Out) {
+    fn comp_on(&mut self, statement: Statement, side: Side, radius: Radius, out: &mut Out) {
         let code = if side == Side::Left { "G41" } else { "G42" };
         let refuse = |out: &mut Out, message: String, help: &str| {
             out.error(&statement, Diagnostic::error(statement.span, message).with_help(help));
@@ -208,6 +208,15 @@ impl CutterComp {
                 "cancel it with G40 first, then turn it on again (to change side or tool)",
             );
         }
+        let d = match radius {
+            // A cutter of no size (LinuxCNC's G41.1 D0) cuts the path as written.
+            Radius::Given(radius) if radius <= 0.0 => return,
+            Radius::Given(radius) => {
+                self.state = State::Entering { comp: Comp { side, radius }, at: Box::new(statement) };
+                return;
+            }
+            Radius::FromTable(d) => d,
+        };
         // D0 is "no tool" (LinuxCNC): a radius of zero, so the path is cut as written.
         if d == Some(0) {
             return;
@@ -536,14 +545,31 @@ fn segment(mode: MotionMode, motion: &Motion, start: Point, end: Point) -> Optio
     }
 }
 
+/// Where compensation's radius comes from.
+enum Radius {
+    /// A tool table entry (G41/G42's D), or the loaded tool's.
+    FromTable(Option<u32>),
+    /// Given by the program (G41.1/G42.1's D, halved), in machine units.
+    Given(f64),
+}
+
 impl Pass for CutterComp {
     fn statement(&mut self, mut statement: Statement, out: &mut Out) {
         match &mut statement.kind {
-            Kind::CutterComp { side, d } => {
-                let (side, d) = (*side, *d);
-                let code = if side == Side::Left { "G41" } else { "G42" };
+            Kind::CutterComp { side, d, diameter } => {
+                let (side, d, diameter) = (*side, *d, diameter.map(|v| v.value));
+                let code = match (side, diameter) {
+                    (Side::Left, None) => "G41",
+                    (Side::Right, None) => "G42",
+                    (Side::Left, Some(_)) => "G41.1",
+                    (Side::Right, Some(_)) => "G42.1",
+                };
                 if self.one_per_line(&statement, code, out) {
-                    self.comp_on(statement, side, d, out);
+                    let radius = match diameter {
+                        Some(diameter) => Radius::Given(diameter / 2.0),
+                        None => Radius::FromTable(d),
+                    };
+                    self.comp_on(statement, side, radius, out);
                 }
             }
             Kind::CutterCompCancel => {
@@ -767,6 +793,32 @@ mod tests {
                 "M30"
             ]
         );
+    }
+
+    #[test]
+    fn linuxcncs_g41_1_and_g42_1_take_the_cutters_diameter_from_the_program() {
+        // The lenient dialect's G41.1 D0.4: a cutter 0.4 across, so 0.2 to the
+        // left of a move along +X, whatever the tool table says; G42.1 D0.6 in
+        // a G21 program on this inch machine: 0.6 mm is 0.0236 in, half of it
+        // 0.0118 to the right. D0 cuts the path as written.
+        let lenient = Config { dialect: crate::statement::Dialect::Lenient.into(), ..Config::default() };
+        let program = "G41.1 D0.4\nG01 X1 F10\nX2\nG40\nG01 X3 Y0\nG21\nG42.1 D0.6\nG01 X101.6\nG40\nG01 X127 Y0\n\
+                       G41.1 D0\nG01 X152.4\nG40\nM30";
+        assert_eq!(
+            run_with(program, &lenient, 5),
+            [
+                "G01 X1.0000 Y0.2000 F10.0000",
+                "G01 X2.0000 Y0.2000",
+                "G01 X3.0000 Y0.0000",
+                "G01 X4.0000 Y-0.0118",
+                "G01 X5.0000 Y0.0000",
+                "G01 X6.0000",
+                "M30"
+            ]
+        );
+        // D is needed, and the strict dialect (the GER manual's) has no G41.1.
+        assert_eq!(run_with("G41.1\nM30", &lenient, 5), ["1:1: error: G41.1 needs D: the cutter's diameter", "M30"]);
+        assert!(comp("G41.1 D0.4").iter().any(|l| l.contains("error: G41.1")), "{:?}", comp("G41.1 D0.4"));
     }
 
     #[test]
