@@ -41,9 +41,8 @@ pub fn sweep(start: [f64; 3], centre: [f64; 2], end: [f64; 3], clockwise: bool) 
 }
 
 /// The arc as lines no further than `tolerance` from it, ending exactly at
-/// `end`: a spiral from the start's radius to the end's (as LinuxCNC moves
-/// an arc whose end is off its circle), the normal axis moving evenly.
-/// At most `most` lines.
+/// `end`, as the controller reads its turn ([`sweep`]): see
+/// [`ger_core::geom::arc_as_lines`]. At most `most` lines.
 pub fn as_lines(
     start: [f64; 3],
     centre: [f64; 2],
@@ -52,27 +51,9 @@ pub fn as_lines(
     tolerance: f64,
     most: usize,
 ) -> Vec<[f64; 3]> {
-    let from = (start[1] - centre[1]).atan2(start[0] - centre[0]);
-    let radius = (start[0] - centre[0]).hypot(start[1] - centre[1]);
-    let end_radius = (end[0] - centre[0]).hypot(end[1] - centre[1]);
     let turn = sweep(start, centre, end, clockwise);
-    let largest = radius.max(end_radius);
-    // A chord of angle a strays r(1 - cos(a/2)) from its circle.
-    let step =
-        if tolerance >= largest { std::f64::consts::FRAC_PI_2 } else { 2.0 * (1.0 - tolerance / largest).acos() };
-    let count = ((turn / step).ceil() as usize).clamp(1, most.max(1));
-    let sign = if clockwise { -1.0 } else { 1.0 };
-    (1..=count)
-        .map(|i| {
-            if i == count {
-                return end;
-            }
-            let t = i as f64 / count as f64;
-            let angle = from + sign * turn * t;
-            let r = radius + (end_radius - radius) * t;
-            [centre[0] + r * angle.cos(), centre[1] + r * angle.sin(), start[2] + (end[2] - start[2]) * t]
-        })
-        .collect()
+    let signed = if clockwise { -turn } else { turn };
+    ger_core::geom::arc_as_lines(start, centre, end, signed, tolerance, most)
 }
 
 #[cfg(test)]

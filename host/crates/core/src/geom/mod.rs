@@ -75,6 +75,41 @@ pub fn arc_sweep(start: (f64, f64), end: (f64, f64), centre: (f64, f64), ccw: bo
     (from, sweep)
 }
 
+/// An arc as lines no further than `tolerance` from it, from `start` (not
+/// included) to `end` (included) about `centre`, turning `sweep` radians
+/// (positive counter-clockwise) in its plane (points are `[first, second,
+/// normal]`): a spiral from the start's radius to the end's, as LinuxCNC
+/// moves an arc whose end is off its circle, the radius and the normal axis
+/// changing evenly with the angle. At most `most` lines.
+pub fn arc_as_lines(
+    start: [f64; 3],
+    centre: [f64; 2],
+    end: [f64; 3],
+    sweep: f64,
+    tolerance: f64,
+    most: usize,
+) -> Vec<[f64; 3]> {
+    let from = (start[1] - centre[1]).atan2(start[0] - centre[0]);
+    let radius = (start[0] - centre[0]).hypot(start[1] - centre[1]);
+    let end_radius = (end[0] - centre[0]).hypot(end[1] - centre[1]);
+    let largest = radius.max(end_radius);
+    // A chord of angle a strays r(1 - cos(a/2)) from its circle.
+    let step =
+        if tolerance >= largest { std::f64::consts::FRAC_PI_2 } else { 2.0 * (1.0 - tolerance / largest).acos() };
+    let count = ((sweep.abs() / step).ceil() as usize).clamp(1, most.max(1));
+    (1..=count)
+        .map(|i| {
+            if i == count {
+                return end;
+            }
+            let t = i as f64 / count as f64;
+            let angle = from + sweep * t;
+            let r = radius + (end_radius - radius) * t;
+            [centre[0] + r * angle.cos(), centre[1] + r * angle.sin(), start[2] + (end[2] - start[2]) * t]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,7 +10,7 @@
 use super::{Out, Pass};
 use crate::config::Config;
 use crate::diag::{Diagnostic, Span};
-use crate::geom::{arc_sweep, centre_from_radius, RadiusArcError};
+use crate::geom::{arc_as_lines, arc_sweep, centre_from_radius, RadiusArcError};
 use crate::state::{Probe, Spindle};
 use crate::statement::{
     Axes, Dialect, Distance, FeedMode, Kind, Machine, Motion, MotionMode, Plane, Reference, Statement, Turns, Units,
@@ -363,30 +363,7 @@ fn no_feed(code: &str, span: Span) -> Diagnostic {
 /// The most pieces a spiral is cut into, whatever its size: a spiral
 /// LinuxCNC takes is at most a few mm off a circle, so only an absurdly
 /// large one (a radius of kilometres) would need more.
-const MOST_SPIRAL_PIECES: f64 = 100_000.0;
-
-/// Points along a spiral in its plane (the third coordinate its height,
-/// changing evenly), from `start` (not included) to `end` (included) about
-/// `centre`: the radius changes evenly with the angle turned, and the chord
-/// between two points is no further than `tolerance` from the spiral.
-fn spiral_points(start: [f64; 3], end: [f64; 3], centre: [f64; 2], ccw: bool, tolerance: f64) -> Vec<[f64; 3]> {
-    let (from, sweep) = arc_sweep((start[0], start[1]), (end[0], end[1]), (centre[0], centre[1]), ccw);
-    let radii = [start, end].map(|p| (p[0] - centre[0]).hypot(p[1] - centre[1]));
-    let largest = radii[0].max(radii[1]);
-    // A chord of angle t is r (1 - cos(t / 2)) from its arc at most.
-    let step = 2.0 * (1.0 - (tolerance / largest).min(1.0)).acos();
-    let pieces = (sweep.abs() / step).ceil().clamp(1.0, MOST_SPIRAL_PIECES) as usize;
-    (1..=pieces)
-        .map(|k| {
-            if k == pieces {
-                return end;
-            }
-            let t = k as f64 / pieces as f64;
-            let (angle, radius) = (from + sweep * t, radii[0] + (radii[1] - radii[0]) * t);
-            [centre[0] + radius * angle.cos(), centre[1] + radius * angle.sin(), start[2] + (end[2] - start[2]) * t]
-        })
-        .collect()
-}
+const MOST_SPIRAL_PIECES: usize = 100_000;
 
 fn nearest_equidistant(start: (f64, f64), end: (f64, f64), centre: (f64, f64)) -> (f64, f64) {
     let mid = ((start.0 + end.0) / 2.0, (start.1 + end.1) / 2.0);
@@ -631,13 +608,16 @@ impl Absolute {
         let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
         let end = self.position;
         let ccw = motion.mode == Some(MotionMode::ArcCcw);
-        let points = spiral_points(
+        let centre = [start[a] + offset(a), start[b] + offset(b)];
+        let (_, sweep) = arc_sweep((start[a], start[b]), (end[a], end[b]), (centre[0], centre[1]), ccw);
+        let points = arc_as_lines(
             [start[a], start[b], start[normal]],
+            centre,
             [end[a], end[b], end[normal]],
-            [start[a] + offset(a), start[b] + offset(b)],
-            ccw,
+            sweep,
             // Half the tolerance: the written digits' rounding has the rest.
             self.units.arc_tolerance() / 2.0,
+            MOST_SPIRAL_PIECES,
         );
         for (k, point) in points.into_iter().enumerate() {
             let mut target = Axes::default();
