@@ -138,7 +138,19 @@ pub struct Deviation {
     /// The volume between the part and the design over those cells.
     pub volume: f64,
     /// For gouges: the lines of the moves that cut below the design there
-    /// (filled by the caller, who has the moves, from [`Judged::gouged`]).
+    /// (filled by the caller, who has the moves, from [`Judged::gouged`]),
+    /// when one program cut the part; empty for a job (see `cut_by`).
+    pub lines: Vec<u32>,
+    /// For gouges: those lines by program, in the order the programs ran;
+    /// only the programs that gouged.
+    pub cut_by: Vec<ProgramLines>,
+}
+
+/// The lines of one program.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ProgramLines {
+    /// The program's name, as the report names it.
+    pub file: String,
     pub lines: Vec<u32>,
 }
 
