@@ -495,3 +495,28 @@ fn a_connection_that_never_finishes_its_head_is_closed() {
     // And it still serves others.
     assert_eq!(server.get("/api/state").status, 200);
 }
+
+#[test]
+fn the_snapshot_gives_the_fixtures_in_machine_coordinates() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("a.ngc"),
+        "G21 G90\nM03 S1000\nG00 Z5\nG00 X0 Y0\nG01 Z-1 F100\nG01 X10\nG00 Z5\nM30\n",
+    )
+    .unwrap();
+    // G54 is 100, 50, -20 from machine zero: the jaw, in program coordinates, moves by it; the bolt does not.
+    let toml = "units = \"mm\"\n[offsets]\nG54 = [100, 50, -20]\n[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 2.0\n\
+                [[fixtures]]\nname = \"jaw\"\nmin = [-10, 0, -5]\nmax = [-5, 20, 3]\n\
+                [[fixtures]]\nname = \"bolt\"\ncentre = [30, 40, 0]\ndiameter = 8\nheight = 6\ncoordinates = \"machine\"\n";
+    std::fs::write(dir.path().join("ger.toml"), toml).unwrap();
+    let server = start(dir, "a.ngc", &root().join("wizards"));
+    let state = server.state_when(|s| s["busy"] == false && !s["part"].is_null());
+    assert_eq!(
+        state["fixtures"],
+        serde_json::json!([
+            { "name": "jaw", "shape": "box", "min": [90.0, 50.0, -25.0], "max": [95.0, 70.0, -17.0] },
+            { "name": "bolt", "shape": "cylinder", "min": [26.0, 36.0, 0.0], "max": [34.0, 44.0, 6.0] },
+        ]),
+        "{state:#}"
+    );
+}

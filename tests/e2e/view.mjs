@@ -30,6 +30,12 @@ try {
     if (highlight) fail(`${highlight} pixels have the selection's colour before anything is selected`);
   });
 
+  await step('the fixture of the config is drawn by its edges in green', async () => {
+    if (state.fixtures.length !== 1 || state.fixtures[0].name !== 'jaw') fail(`the snapshot's fixtures: ${JSON.stringify(state.fixtures)}`);
+    const { fixture } = await canvasPixels(page);
+    if (fixture < 40) fail(`the view shows ${fixture} pixels of the fixtures' green`);
+  });
+
   // A feed move long enough to see: its output line, and the program line it came from.
   const feed = pieces.find((p) => p.kind === 1 && Math.hypot(p.x1 - p.x0, p.y1 - p.y0) > 5);
   if (!feed) fail('the example has no feed move 5 units long');

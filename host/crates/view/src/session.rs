@@ -18,7 +18,7 @@ use ger_engine::core::diag::{Diagnostic, Severity, Span};
 use ger_engine::core::emit::{preamble, Emitter};
 use ger_engine::core::passes::Event;
 use ger_engine::render::pieces::{self, Piece};
-use ger_engine::sim::{HeightField, Step, Stock, Walker};
+use ger_engine::sim::{HeightField, Solid, Step, Stock, Walker};
 use ger_engine::{Program, Purpose, Resolution, Silent, Source};
 use ger_output::OutputFile;
 
@@ -352,6 +352,7 @@ struct Made {
     cell: f64,
     /// The planned run time, when the program moves.
     run_time: Option<RunTime>,
+    fixtures: Vec<JsonFixture>,
 }
 
 /// The planned run time, as the snapshot gives it.
@@ -383,6 +384,7 @@ fn make(options: &Options, opened: &Opened) -> Made {
         }
     };
     made.units = config.units.abbreviation();
+    made.fixtures = config.fixtures.iter().map(|f| JsonFixture::of(&Solid::of(f, &config), &f.name)).collect();
     let wizards = (options.wizards)(&config);
     let mut program = Program::new(source, config).with_wizards(wizards);
     // Without a size, the stock is where the program cuts: one pass to find it
@@ -461,9 +463,32 @@ struct Body<'a> {
     output: Output<'a>,
     diagnostics: Vec<JsonDiagnostic>,
     part: Option<Part>,
+    fixtures: &'a [JsonFixture],
     path: PathSummary,
     run_time: Option<RunTime>,
     elapsed_ms: u64,
+}
+
+/// A `[[fixtures]]` solid, in machine coordinates, for the page to draw.
+#[derive(Serialize)]
+struct JsonFixture {
+    name: String,
+    /// "box" or "cylinder" (upright).
+    shape: &'static str,
+    /// Its box: a cylinder's centre is the middle of it in X and Y, its radius half its X extent.
+    min: [f64; 3],
+    max: [f64; 3],
+}
+
+impl JsonFixture {
+    fn of(solid: &Solid, name: &str) -> JsonFixture {
+        let (min, max) = solid.bounds();
+        let shape = match solid {
+            Solid::Box { .. } => "box",
+            Solid::Cylinder { .. } => "cylinder",
+        };
+        JsonFixture { name: name.to_string(), shape, min: min.into(), max: max.into() }
+    }
 }
 
 #[derive(Serialize)]
@@ -576,6 +601,7 @@ fn snapshot(version: u64, program: &Opened, made: Made, elapsed_ms: u64) -> Snap
         output: Output { text: &made.output, source_lines: &made.source_lines },
         diagnostics,
         part,
+        fixtures: &made.fixtures,
         path: PathSummary { pieces: sent.len(), total, decimated: sent.len() < total, min, max },
         run_time: made.run_time,
         elapsed_ms,

@@ -331,6 +331,7 @@ const KIND_COLOURS = [
   [0.24, 0.48, 1.0, 1.0], // 1 feed: blue
   [0.13, 0.78, 0.9, 1.0], // 2 arc: cyan-blue
   [0.55, 0.58, 0.64, 0.6], // 3 the stock's outline (drawn by the page, not sent)
+  [0.47, 0.85, 0.35, 1.0], // 4 the fixtures' edges (the snapshot's `fixtures`): green, as in `ger render`
 ];
 /** The selection. The end-to-end test looks for this colour in the canvas. */
 const HIGHLIGHT = [1.0, 0.69, 0.0, 1.0];
@@ -395,7 +396,7 @@ void main() {
 
 const LINES_FS = `#version 300 es
 precision highp float;
-uniform vec4 u_colours[4];
+uniform vec4 u_colours[5];
 uniform float u_dash;
 flat in uint v_kind;
 in float v_along;
@@ -403,7 +404,7 @@ out vec4 colour;
 void main() {
   // Rapids dashed, so they read as rapids without their colour too.
   if (v_kind == 0u && fract(v_along / u_dash) > 0.6) discard;
-  colour = u_colours[min(v_kind, 3u)];
+  colour = u_colours[min(v_kind, 4u)];
 }`;
 
 const THICK_VS = `#version 300 es
@@ -478,6 +479,7 @@ class Viewer {
     this.grid = null; // { gx, gy, count, origin, step, top, bottom }
     this.path = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
     this.outline = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
+    this.fixtures = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
     this.selection = this.vertexSet(this.thick, [['a_p0', 3], ['a_p1', 3], ['a_corner', 1]]);
     this.records = null; // the toolpath, for picking and selection
     this.bounds = null;
@@ -613,6 +615,41 @@ class Viewer {
     this.requestDraw();
   }
 
+  /** `fixtures` as /api/state gives them: each drawn by its edges (a
+   *  cylinder's rims in 48 steps and four upright lines). */
+  setFixtures(fixtures) {
+    const edges = [];
+    for (const f of fixtures || []) {
+      const [x0, y0, z0] = f.min, [x1, y1, z1] = f.max;
+      if (f.shape === 'cylinder') {
+        const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2, r = (x1 - x0) / 2, steps = 48;
+        const at = (k, z) => [cx + r * Math.cos((2 * Math.PI * k) / steps), cy + r * Math.sin((2 * Math.PI * k) / steps), z];
+        for (let k = 0; k < steps; k++) edges.push([at(k, z0), at(k + 1, z0)], [at(k, z1), at(k + 1, z1)]);
+        for (let k = 0; k < steps; k += steps / 4) edges.push([at(k, z0), at(k, z1)]);
+      } else {
+        const corner = (i, z) => [i === 1 || i === 2 ? x1 : x0, i >= 2 ? y1 : y0, z];
+        for (let i = 0; i < 4; i++) {
+          edges.push([corner(i, z0), corner((i + 1) % 4, z0)], [corner(i, z1), corner((i + 1) % 4, z1)]);
+          edges.push([corner(i, z0), corner(i, z1)]);
+        }
+      }
+    }
+    const records = new ArrayBuffer(edges.length * RECORD);
+    edges.forEach(([a, b], i) => {
+      new Float32Array(records, i * RECORD, 6).set([...a, ...b]);
+      new Uint32Array(records, i * RECORD + 24, 2).set([0, 4]);
+    });
+    this.upload(this.fixtures, this.lineVertices(new Float32Array(records), new Uint32Array(records)));
+    const all = fixtures || [];
+    this.fixtureBox = all.length
+      ? {
+          min: [0, 1, 2].map((k) => Math.min(...all.map((f) => f.min[k]))),
+          max: [0, 1, 2].map((k) => Math.max(...all.map((f) => f.max[k]))),
+        }
+      : null;
+    this.requestDraw();
+  }
+
   /** `buffer` as /api/path gives it; `box` the path's {min, max}. */
   setPath(buffer, box) {
     this.records = buffer && buffer.byteLength ? new Float32Array(buffer) : null;
@@ -645,7 +682,7 @@ class Viewer {
 
   /** The box of everything there is to see. */
   box() {
-    const boxes = [this.partBox, this.pathBox].filter((b) => b && b.min && b.max);
+    const boxes = [this.partBox, this.pathBox, this.fixtureBox].filter((b) => b && b.min && b.max);
     if (!this.grid) boxes.splice(0, boxes.length, ...boxes.filter((b) => b !== this.partBox));
     if (!boxes.length) return null;
     const min = [0, 1, 2].map((k) => Math.min(...boxes.map((b) => b.min[k])));
@@ -890,7 +927,7 @@ class Viewer {
     gl.uniformMatrix4fv(u.u_mvp, false, mvp);
     gl.uniform4fv(u.u_colours, KIND_COLOURS.flat());
     gl.uniform1f(u.u_dash, Math.max(1e-3, this.size() / 150));
-    for (const set of [this.outline, this.path]) {
+    for (const set of [this.outline, this.fixtures, this.path]) {
       if (!set.count) continue;
       gl.bindVertexArray(set.vao);
       gl.drawArrays(gl.LINES, 0, set.count);
@@ -1152,6 +1189,7 @@ function show(state, heights, path) {
 
   if (viewer) {
     viewer.setPart(state.part, heights);
+    viewer.setFixtures(state.fixtures);
     viewer.setPath(path, state.path);
     if (app.refit) {
       viewer.fit();
