@@ -17,7 +17,7 @@ use ger_core::config::{Bounds, Config};
 use ger_core::statement::Units;
 use ger_engine::compare::{heat_map, Comparison, Design, Deviation};
 use ger_engine::sim::Stock;
-use ger_engine::{place_design, Job, Purpose, Source};
+use ger_engine::{default_tolerance, place_design, Job, Purpose, Source};
 use ger_output::OutputFile;
 
 #[derive(Args)]
@@ -62,6 +62,16 @@ impl DesignArgs {
     /// The design at `path`, placed over `stock`, and the tolerance; `None`
     /// (the usage error said) when the tolerance is out of bounds.
     pub(crate) fn load(&self, path: &Path, config: &Config, stock: &Stock) -> Result<Option<(Design, f64)>> {
+        let Some(view) = self.for_view(path, config)? else { return Ok(None) };
+        let mut design = view.mesh;
+        place_design(&mut design, config, view.units.unwrap_or(config.units), view.origin, stock);
+        Ok(Some((design, view.tolerance.unwrap_or(default_tolerance(config.units)))))
+    }
+
+    /// The design at `path` as read, with how to place and judge it (as
+    /// `ger view` takes it: the stock changes with each snapshot); `None`
+    /// (the usage error said) when the tolerance is out of bounds on `config`'s machine.
+    pub(crate) fn for_view(&self, path: &Path, config: &Config) -> Result<Option<ger_view::DesignOptions>> {
         let bounds = Bounds::of(config.units);
         if self.tolerance.is_some_and(|t| !(0.0..=bounds.tool).contains(&t)) {
             usage_error(&format!("--tolerance must be from 0 to {} {}", bounds.tool, config.units.abbreviation()))?;
@@ -69,18 +79,12 @@ impl DesignArgs {
         }
         let name = path.display().to_string();
         let file = std::fs::File::open(path).with_context(|| format!("cannot read {name}"))?;
-        let mut design =
-            Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad design {name}"))?;
-        let units = self.design_units.map_or(config.units, |u| match u {
+        let mesh = Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad design {name}"))?;
+        let units = self.design_units.map(|u| match u {
             UnitsArg::Inch => Units::Inch,
             UnitsArg::Mm => Units::Mm,
         });
-        place_design(&mut design, config, units, self.design_origin, stock);
-        let tolerance = self.tolerance.unwrap_or(match config.units {
-            Units::Mm => 0.05,
-            Units::Inch => 0.002,
-        });
-        Ok(Some((design, tolerance)))
+        Ok(Some(ger_view::DesignOptions { name, mesh, units, origin: self.design_origin, tolerance: self.tolerance }))
     }
 }
 

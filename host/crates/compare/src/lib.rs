@@ -158,10 +158,10 @@ pub struct ProgramLines {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
     /// The design has nothing over it.
-    Unjudged,
-    Within,
-    Gouged,
-    Left,
+    Unjudged = 0,
+    Within = 1,
+    Gouged = 2,
+    Left = 3,
 }
 
 /// At most this many gouged cells are kept for finding the moves that cut them: the deepest.

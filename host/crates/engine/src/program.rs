@@ -413,15 +413,21 @@ impl Job {
     /// and each one's report.
     pub fn simulate(&mut self, simulation: Simulation, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
         let (part, first) = self.programs[0].simulate(simulation, progress);
-        let (part, mut reports) = self.simulate_on(part, progress);
+        let (part, mut reports) = self.simulate_after(0, part, progress);
         reports.insert(0, first);
         (part, reports)
     }
 
-    /// The programs after the first cut on `part`, as the first left it, and their reports.
-    pub fn simulate_on(&mut self, mut part: HeightField, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
+    /// The programs after the one at `index` cut on `part`, as that one
+    /// left it, and their reports.
+    pub fn simulate_after(
+        &mut self,
+        index: usize,
+        mut part: HeightField,
+        progress: &mut dyn Progress,
+    ) -> (HeightField, Vec<Report>) {
         let mut reports = Vec::new();
-        for program in &mut self.programs[1..] {
+        for program in &mut self.programs[index + 1..] {
             let report;
             (part, report) = program.simulate(Simulation::resume(part), progress);
             reports.push(report);
@@ -530,6 +536,14 @@ pub fn stock_of(mesh: &Design) -> Stock {
 pub fn carve(simulation: &mut Simulation, mesh: &Design) {
     let top = mesh.top_surface(simulation.field());
     simulation.carve(&top);
+}
+
+/// How far a part may be off its design unless the caller says: 0.05 mm, 0.002 in.
+pub fn default_tolerance(units: Units) -> f64 {
+    match units {
+        Units::Mm => 0.05,
+        Units::Inch => 0.002,
+    }
 }
 
 /// Puts `design` where the part is: its coordinates are in `units`
