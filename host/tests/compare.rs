@@ -97,3 +97,120 @@ fn a_design_that_is_not_a_solid_is_an_error_naming_it() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("bad design open.stl: the mesh is not a closed surface"), "{err}");
 }
+
+/// The slot roughed 4 mm deep of its 5.
+const ROUGH: &str = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG01 Z-4 F500\nX110\nG00 Z5\nM30\n";
+/// Its finishing: a rapid down into the roughed slot (line 4), the last millimetre, and 0.3 mm too
+/// deep from X50 to X70 (lines 8 and 9).
+const FINISH_DEEP: &str =
+    "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG00 Z-3\nG01 Z-5 F500\nX110\nG00 X50 Z1\nG01 Z-5.3\nX70\nG00 Z5\nM30\n";
+/// The same finishing, exact.
+const FINISH: &str = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG00 Z-3\nG01 Z-5 F500\nX110\nG00 Z5\nM30\n";
+
+fn job_folder() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    for (name, text) in [
+        ("ger.toml", CONFIG),
+        ("slot.ngc", SLOT),
+        ("rough.ngc", ROUGH),
+        ("finish.ngc", FINISH),
+        ("deep.ngc", FINISH_DEEP),
+        ("slot_deep.ngc", DEEP),
+    ] {
+        std::fs::write(path.join(name), text).unwrap();
+    }
+    let out = ger(path, &["render", "slot.ngc", "-o", "slot.stl", "--resolution", "0.5", "-q"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    dir
+}
+
+#[test]
+fn a_job_is_compared_on_the_part_its_programs_leave_together() {
+    let dir = job_folder();
+    let path = dir.path();
+    let out = ger(path, &["compare", "rough.ngc", "finish.ngc", "slot.stl", "--resolution", "0.5", "-q"]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("rough.ngc, then finish.ngc against slot.stl: within the tolerance\n"), "{text}");
+
+    // The roughing alone leaves the last millimetre of the slot: 10 x 100 mm.
+    let out = ger(path, &["compare", "rough.ngc", "slot.stl", "--resolution", "0.5", "-q"]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("  left      1.000 mm highest") && text.contains("1000.000 mm³"), "{text}");
+
+    let args = ["compare", "rough.ngc", "deep.ngc", "slot.stl", "--resolution", "0.5", "-q", "--format", "json"];
+    let out = ger(path, &args);
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/compare.schema.json")).unwrap();
+    let schema = jsonschema::validator_for(&serde_json::from_str(&text).unwrap()).unwrap();
+    let errors: Vec<String> = schema.iter_errors(&report).map(|e| format!("{e} at {}", e.instance_path())).collect();
+    assert!(errors.is_empty(), "{errors:?}\n{report:#}");
+    assert_eq!(report["files"], serde_json::json!(["rough.ngc", "deep.ngc"]));
+    assert!((report["gouge"]["worst"].as_f64().unwrap() - 0.3).abs() < 1e-5, "{report:#}");
+    assert_eq!(report["gouge"]["cut_by"], serde_json::json!([{ "file": "deep.ngc", "lines": [8, 9] }]));
+    let out = ger(path, &["compare", "rough.ngc", "deep.ngc", "slot.stl", "--resolution", "0.5", "-q"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("; cut by deep.ngc lines 8, 9\n"), "{text}");
+}
+
+#[test]
+fn check_of_a_job_with_a_design_judges_the_part_the_whole_job_leaves() {
+    let dir = job_folder();
+    let path = dir.path();
+    let check = |args: &[&str]| {
+        let mut all = vec!["check"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--design", "slot.stl", "--resolution", "0.5", "-q"]);
+        let out = ger(path, &all);
+        (out.status.code(), String::from_utf8(out.stdout).unwrap())
+    };
+    // The finishing program's rapid goes into the roughed slot's air: clean, and the part is the design.
+    let (status, text) = check(&["rough.ngc", "finish.ngc"]);
+    assert_eq!(status, Some(0), "{text}");
+    assert!(
+        text.contains("job rough.ngc, then finish.ngc: no problems found\n  gouged    none\n  left      none\n"),
+        "{text}"
+    );
+    let (status, text) = check(&["rough.ngc", "deep.ngc"]);
+    assert_eq!(status, Some(1), "{text}");
+    assert!(text.contains("job rough.ngc, then deep.ngc: 1 error (gouged below the design)\n"), "{text}");
+    assert!(text.contains("; cut by deep.ngc lines 8, 9\n"), "{text}");
+    let (_, text) = check(&["rough.ngc", "deep.ngc", "--format", "json"]);
+    let report: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!((report["errors"].as_u64(), report["warnings"].as_u64()), (Some(1), Some(0)), "{report:#}");
+    assert_eq!(report["design"]["gouge"]["cut_by"][0]["lines"], serde_json::json!([8, 9]));
+}
+
+#[test]
+fn with_a_design_the_summary_counts_what_the_exit_status_counts() {
+    let dir = job_folder();
+    let path = dir.path();
+    let check = |args: &[&str]| {
+        let mut all = vec!["check"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--design", "slot.stl", "--resolution", "0.5", "-q"]);
+        let out = ger(path, &all);
+        (out.status.code(), String::from_utf8(out.stdout).unwrap())
+    };
+    // A gouge with no other finding: an error, not "no problems found".
+    let (status, text) = check(&["slot_deep.ngc"]);
+    assert_eq!(status, Some(1), "{text}");
+    assert!(text.starts_with("slot_deep.ngc: 1 error (gouged below the design)\n"), "{text}");
+    let (_, json) = check(&["slot_deep.ngc", "--format", "json"]);
+    let report: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(report["errors"].as_u64(), Some(1), "{report:#}");
+    // Material left is a warning (exit 0), an error under --deny warnings (exit 1).
+    let (status, text) = check(&["rough.ngc"]);
+    assert_eq!(status, Some(0), "{text}");
+    assert!(text.starts_with("rough.ngc: 1 warning (material left on the design)\n"), "{text}");
+    let (status, text) = check(&["rough.ngc", "--deny", "warnings"]);
+    assert_eq!(status, Some(1), "{text}");
+    assert!(text.starts_with("rough.ngc: 1 error (material left on the design)\n"), "{text}");
+    // Within the tolerance: clean, exit 0.
+    let (status, text) = check(&["slot.ngc"]);
+    assert_eq!(status, Some(0), "{text}");
+    assert!(text.starts_with("slot.ngc: no problems found\n"), "{text}");
+}

@@ -114,6 +114,34 @@ fn the_3d_view_draws_the_fixtures_in_their_own_colour() {
 }
 
 #[test]
+fn the_top_view_takes_in_the_fixtures_and_draws_them_over_the_part() {
+    let green = |png: &Png| {
+        png.pixels.iter().filter(|c| c[1] as i32 > c[0] as i32 + 30 && c[1] as i32 > c[2] as i32 + 30).count()
+    };
+    let dir = setup(POCKETS, BLOCK);
+    ok(&ger(dir.path(), &["render", "part.ngc", "-o", "plain.png", "--size", "400x300"]));
+    assert_eq!(green(&Png::read(&dir.path().join("plain.png"))), 0, "nothing green without fixtures");
+    // The jaw 0.4 x 1 in beside the 2 x 1 in block: the picture takes in 2.6 x 1 in, a jaw of 0.4 of it.
+    let jaw = "[[fixtures]]\nname = \"jaw\"\nmin = [2.2, 0, -0.5]\nmax = [2.6, 1, 0.2]\n";
+    std::fs::write(dir.path().join("ger.toml"), format!("{BLOCK}{jaw}")).unwrap();
+    ok(&ger(dir.path(), &["render", "part.ngc", "-o", "jaw.png", "--size", "400x300"]));
+    let png = Png::read(&dir.path().join("jaw.png"));
+    // Placed as `top::placement` places 2.6 x 1 in: 16 px padding, 120 px legend, 44 px footer.
+    let scale = ((400.0 - 32.0 - 120.0) / 2.6f64).min((300.0 - 32.0 - 44.0) / 1.0);
+    let (width, height) = ((2.6 * scale).round(), scale.round());
+    let share = green(&png) as f64 / (width * height);
+    assert!((share - 0.4 / 2.6).abs() < 0.01, "the jaw is {share} of the picture");
+    // The part is drawn narrower, the stock's left edge where the picture's is.
+    let left = 16.0 + ((400.0 - 32.0 - 120.0) as i64 - width as i64) as f64 / 2.0;
+    let top = 16.0 + ((300.0 - 32.0 - 44.0) as i64 - height as i64) as f64 / 2.0;
+    let pixel = |x: f64, y: f64| png.at((left + x * scale) as u32, (top + (1.0 - y) * scale) as u32);
+    let (uncut, deep, jaw) = (luma(pixel(1.0, 0.9)), luma(pixel(1.5, 0.5)), pixel(2.4, 0.5));
+    assert!(uncut > deep + 20.0, "{uncut} {deep}");
+    assert!(jaw[1] as i32 > jaw[0] as i32 + 30 && jaw[1] as i32 > jaw[2] as i32 + 30, "{jaw:?}");
+    assert_eq!(png.at((left - 2.0) as u32, (top + 0.5 * scale) as u32), [255, 255, 255]);
+}
+
+#[test]
 fn the_toolpath_alone_has_rapids_and_feeds_in_their_colours() {
     let dir = setup(POCKETS, BLOCK);
     ok(&ger(dir.path(), &["render", "part.ngc", "-o", "tp.png", "--toolpath", "--view", "top", "--size", "200x100"]));

@@ -74,14 +74,26 @@ fn the_page_in_chromium() {
     let dir = tempfile::tempdir().unwrap();
     let program = dir.path().join("pocket.ngc");
     std::fs::copy(root().join("host/examples/pocket.ngc"), &program).unwrap();
-    std::fs::copy(root().join("host/examples/ger.toml"), dir.path().join("ger.toml")).unwrap();
+    // The examples' machine, and a vise jaw beside the pocket's stock (X 7.5 to 87.5), which the page draws.
+    let config = std::fs::read_to_string(root().join("host/examples/ger.toml")).unwrap();
+    let jaw = "\n[[fixtures]]\nname = \"jaw\"\nmin = [100, 10, -12]\nmax = [110, 40, 4]\n";
+    std::fs::write(dir.path().join("ger.toml"), config + jaw).unwrap();
+    // Its own part as its design, for the design layer (coarse: the page remakes it at each edit).
+    let render = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .current_dir(dir.path())
+        .args(["render", "pocket.ngc", "-o", "pocket.stl", "-q", "--resolution", "0.4", "--wizards"])
+        .arg(root().join("wizards"))
+        .status()
+        .expect("ger render could not be started");
+    assert!(render.success(), "ger render pocket.ngc failed");
 
     let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
         .arg("view")
         .arg(&program)
         .arg("--wizards")
         .arg(root().join("wizards"))
-        .args(["--port", "0"])
+        .args(["--port", "0", "--design", "pocket.stl"])
+        .current_dir(dir.path())
         .stdout(Stdio::piped())
         .spawn()
         .expect("ger view could not be started");

@@ -495,3 +495,85 @@ fn a_connection_that_never_finishes_its_head_is_closed() {
     // And it still serves others.
     assert_eq!(server.get("/api/state").status, 200);
 }
+
+#[test]
+fn the_snapshot_gives_the_fixtures_in_machine_coordinates() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("a.ngc"),
+        "G21 G90\nM03 S1000\nG00 Z5\nG00 X0 Y0\nG01 Z-1 F100\nG01 X10\nG00 Z5\nM30\n",
+    )
+    .unwrap();
+    // G54 is 100, 50, -20 from machine zero: the jaw, in program coordinates, moves by it; the bolt does not.
+    let toml = "units = \"mm\"\n[offsets]\nG54 = [100, 50, -20]\n[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 2.0\n\
+                [[fixtures]]\nname = \"jaw\"\nmin = [-10, 0, -5]\nmax = [-5, 20, 3]\n\
+                [[fixtures]]\nname = \"bolt\"\ncentre = [30, 40, 0]\ndiameter = 8\nheight = 6\ncoordinates = \"machine\"\n";
+    std::fs::write(dir.path().join("ger.toml"), toml).unwrap();
+    let server = start(dir, "a.ngc", &root().join("wizards"));
+    let state = server.state_when(|s| s["busy"] == false && !s["part"].is_null());
+    assert_eq!(
+        state["fixtures"],
+        serde_json::json!([
+            { "name": "jaw", "shape": "box", "min": [90.0, 50.0, -25.0], "max": [95.0, 70.0, -17.0] },
+            { "name": "bolt", "shape": "cylinder", "min": [26.0, 36.0, 0.0], "max": [34.0, 44.0, 6.0] },
+        ]),
+        "{state:#}"
+    );
+}
+
+#[test]
+fn a_job_is_viewed_on_the_part_it_leaves_with_its_design_as_a_layer() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let config = "units = \"mm\"\n[stock]\nsize = [100, 50, 20]\norigin = [0, 0, 20]\n\
+                  [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 10\nflute_length = 20\n";
+    // The slot 5 deep along Y25; roughed 4 deep, then finished with a rapid down into the roughed
+    // slot (line 4) and 0.3 mm too deep from X50 to X70.
+    let slot = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG01 Z-5 F500\nX110\nG00 Z5\nM30\n";
+    let rough = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG01 Z-4 F500\nX110\nG00 Z5\nM30\n";
+    let finish =
+        "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG00 Z-3\nG01 Z-5 F500\nX110\nG00 X50 Z1\nG01 Z-5.3\nX70\nG00 Z5\nM30\n";
+    for (name, text) in [("ger.toml", config), ("slot.ngc", slot), ("rough.ngc", rough), ("finish.ngc", finish)] {
+        std::fs::write(path.join(name), text).unwrap();
+    }
+    let render = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .current_dir(path)
+        .args(["render", "slot.ngc", "-o", "slot.stl", "--resolution", "0.5", "-q"])
+        .status()
+        .unwrap();
+    assert!(render.success());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .current_dir(path)
+        .args(["view", "rough.ngc", "finish.ngc", "--design", "slot.stl", "--resolution", "0.5", "--port", "0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let port = line.trim().rsplit(':').next().unwrap().trim_end_matches('/').parse().unwrap();
+    let server = Server { child, port, dir };
+
+    // Viewing the roughing: the part is the job's, gouged 0.3 mm over a stadium 20 x 10 with round ends.
+    let state = server.state_when(|s| !s["design"].is_null());
+    assert_eq!(state["job"], serde_json::json!(["rough.ngc", "finish.ngc"]));
+    let design = &state["design"];
+    assert_eq!(design["file"], "slot.stl");
+    assert!((design["gouge"]["worst"].as_f64().unwrap() - 0.3).abs() < 1e-5, "{design:#}");
+    assert_eq!(design["left"]["area"], 0.0, "{design:#}");
+    let (nx, ny) = (state["part"]["nx"].as_u64().unwrap() as usize, state["part"]["ny"].as_u64().unwrap() as usize);
+    let verdicts = server.get(&format!("/api/verdicts?version={}", state["version"])).body;
+    assert_eq!(verdicts.len(), nx * ny);
+    // 2 is gouged: the stadium's 279 mm² in cells of 0.25 mm².
+    let gouged = verdicts.iter().filter(|v| **v == 2).count() as f64 * 0.25;
+    let area = 200.0 + 25.0 * std::f64::consts::PI;
+    assert!((gouged - area).abs() / area < 0.03, "{gouged} mm² gouged");
+
+    // Viewing the finishing program: checked on what the roughing left, its rapid is into air.
+    let answer = server.post("/api/open", r#"{"path": "finish.ngc"}"#);
+    assert_eq!(answer.status, 200);
+    let state = server.state_when(|s| s["file"] == "finish.ngc" && !s["design"].is_null());
+    let checks: Vec<&Value> = state["diagnostics"].as_array().unwrap().iter().map(|d| &d["check"]).collect();
+    assert!(checks.is_empty(), "{:#}", state["diagnostics"]);
+    assert!((state["design"]["gouge"]["worst"].as_f64().unwrap() - 0.3).abs() < 1e-5);
+}

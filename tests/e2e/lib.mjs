@@ -41,8 +41,9 @@ export async function waitShown(page, version, timeout = 30000) {
   await page.waitForFunction((v) => Number(document.body.dataset.shown) >= v, version, { timeout, polling: 'raf' });
 }
 
-/** Counts the canvas's pixels that are not background, and those of the
- *  selection's colour (#ffb000). */
+/** Counts the canvas's pixels that are not background, those of the
+ *  selection's colour (#ffb000), those of the fixtures' green (#78d959),
+ *  and the greens (the design layer's "within the tolerance" among them). */
 export async function canvasPixels(page) {
   return page.evaluate(() => {
     const canvas = document.getElementById('view');
@@ -52,13 +53,15 @@ export async function canvasPixels(page) {
     const g = copy.getContext('2d');
     g.drawImage(canvas, 0, 0);
     const d = g.getImageData(0, 0, copy.width, copy.height).data;
-    let drawn = 0, highlight = 0;
+    let drawn = 0, highlight = 0, fixture = 0, within = 0;
     for (let i = 0; i < d.length; i += 4) {
       const [r, gr, b] = [d[i], d[i + 1], d[i + 2]];
       if (Math.abs(r - 27) + Math.abs(gr - 30) + Math.abs(b - 35) > 24) drawn++;
       if (r > 220 && gr > 140 && gr < 200 && b < 70) highlight++;
+      if (gr > 150 && gr > r + 50 && gr > b + 60) fixture++;
+      if (gr > 60 && gr > r + 30 && gr > b + 30) within++;
     }
-    return { drawn, highlight, total: d.length / 4 };
+    return { drawn, highlight, fixture, within, total: d.length / 4 };
   });
 }
 

@@ -30,6 +30,28 @@ try {
     if (highlight) fail(`${highlight} pixels have the selection's colour before anything is selected`);
   });
 
+  await step('the fixture of the config is drawn by its edges in green', async () => {
+    if (state.fixtures.length !== 1 || state.fixtures[0].name !== 'jaw') fail(`the snapshot's fixtures: ${JSON.stringify(state.fixtures)}`);
+    const { fixture } = await canvasPixels(page);
+    if (fixture < 40) fail(`the view shows ${fixture} pixels of the fixtures' green`);
+  });
+
+  await step('D shows the part against its design, its own part: within the tolerance, green', async () => {
+    // The design is ger render's STL of the part at a finer grid: only the cells along the walls differ.
+    const d = state.design;
+    if (!d || d.gouge.area + d.left.area > 0.05 * d.judged_area) fail(`the snapshot's design: ${JSON.stringify(d)}`);
+    const before = await canvasPixels(page);
+    await page.locator('#view').focus();
+    await page.keyboard.press('d');
+    await page.waitForTimeout(100); // drawn on the next frame
+    const after = await canvasPixels(page);
+    // Green but the walls (along which the grids differ, a cell's verdict colours the wall it tops).
+    if (after.within - before.within < 0.3 * before.drawn) {
+      fail(`the design layer turned ${after.within - before.within} of the ${before.drawn} pixels drawn green`);
+    }
+    await page.keyboard.press('d');
+  });
+
   // A feed move long enough to see: its output line, and the program line it came from.
   const feed = pieces.find((p) => p.kind === 1 && Math.hypot(p.x1 - p.x0, p.y1 - p.y0) > 5);
   if (!feed) fail('the example has no feed move 5 units long');

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use anyhow::{Context, Result};
 
-use super::render::{refused, usage_error, Bar, GridArgs};
+use super::render::{refused, Bar, GridArgs};
 use super::{styled, CommonArgs};
 use ger_check::{Bounds, Finding, ProfileUsed, Rule, Summary, Verdict};
 use ger_core::config::Config;
@@ -78,9 +78,6 @@ fn rule(text: &str) -> Result<Rule> {
 
 pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
     if !args.more.is_empty() {
-        if args.design.is_some() {
-            return usage_error("--design compares one program's part: give it one program");
-        }
         return job(args);
     }
     let mut program = args.common.program(Purpose::Cut)?;
@@ -117,7 +114,8 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
             finding.diagnostic.severity = Severity::Error;
         }
     }
-    let errors = verdict.findings.iter().filter(|f| f.diagnostic.is_error()).count();
+    let design = Problems::of_design(comparison.as_ref(), args.deny.is_some());
+    let problems = Problems::of(&verdict).and(design);
     match args.format {
         Output::Text => {
             let mut report = Report::default().failing_as("the check failed");
@@ -127,7 +125,7 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
             if !verdict.findings.is_empty() {
                 eprint!("{}", report.render(&source.name(), source.open(), styled()));
             }
-            print!("{}", summary_text(&source.name(), &verdict, config));
+            print!("{}", summary_text(&source.name(), &verdict, config, design));
             if let Some(c) = &comparison {
                 print!("{}", super::compare::deviations(c, config.units.abbreviation(), config.units.decimals()));
             }
@@ -135,12 +133,71 @@ pub(crate) fn check(args: &CheckArgs) -> Result<i32> {
         Output::Json => {
             let mut report = JsonReport::new(&source.name(), &verdict);
             report.design = comparison.as_ref();
+            (report.errors, report.warnings) = (problems.errors, problems.warnings);
             let json = serde_json::to_string_pretty(&report).context("cannot write the report")?;
             println!("{json}");
         }
     }
-    let gouged = comparison.is_some_and(|c| c.gouge.area > 0.0);
-    Ok(i32::from(errors > 0 || gouged))
+    Ok(i32::from(problems.errors > 0))
+}
+
+/// What failed and what warned, counted for the summary and the exit
+/// status alike, so that they never disagree.
+#[derive(Clone, Copy, Default)]
+struct Problems {
+    errors: usize,
+    warnings: usize,
+    /// With `--design`: the part is below it beyond the tolerance (an error).
+    gouged: bool,
+    /// With `--design`: the part is above it beyond the tolerance (a
+    /// warning, an error under `--deny warnings`).
+    left: bool,
+}
+
+impl Problems {
+    fn of(verdict: &Verdict) -> Problems {
+        let errors = verdict.findings.iter().filter(|f| f.diagnostic.is_error()).count();
+        Problems { errors, warnings: verdict.findings.len() - errors, ..Problems::default() }
+    }
+
+    fn of_design(comparison: Option<&Comparison>, deny_warnings: bool) -> Problems {
+        let Some(c) = comparison else { return Problems::default() };
+        let (gouged, left) = (c.gouge.area > 0.0, c.left.area > 0.0);
+        let (left_errors, left_warnings) = if deny_warnings { (left, false) } else { (false, left) };
+        Problems {
+            errors: usize::from(gouged) + usize::from(left_errors),
+            warnings: usize::from(left_warnings),
+            gouged,
+            left,
+        }
+    }
+
+    fn and(self, other: Problems) -> Problems {
+        Problems {
+            errors: self.errors + other.errors,
+            warnings: self.warnings + other.warnings,
+            gouged: self.gouged || other.gouged,
+            left: self.left || other.left,
+        }
+    }
+
+    /// "no problems found", "2 errors, 1 warning (gouged below the design)".
+    fn text(self) -> String {
+        let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+        let mut text = match (self.errors, self.warnings) {
+            (0, 0) => return "no problems found".to_string(),
+            (e, 0) => plural(e, "error"),
+            (0, w) => plural(w, "warning"),
+            (e, w) => format!("{}, {}", plural(e, "error"), plural(w, "warning")),
+        };
+        match (self.gouged, self.left) {
+            (true, true) => text.push_str(" (gouged below the design, and material left on it)"),
+            (true, false) => text.push_str(" (gouged below the design)"),
+            (false, true) => text.push_str(" (material left on the design)"),
+            (false, false) => {}
+        }
+        text
+    }
 }
 
 /// `ger check A B C`: the programs in turn on one stock, each reported as
@@ -166,8 +223,16 @@ fn job(args: &CheckArgs) -> Result<i32> {
     if let Some(mesh) = &mesh {
         carve(&mut sim, mesh);
     }
-    let (mut verdicts, _) = job.check(sim, &args.allow, &mut bar);
-    let (mut errors, mut warnings) = (0, 0);
+    let design = match &args.design {
+        Some(path) => match args.placing.load(path, job.programs()[0].config(), &stock)? {
+            Some(design) => Some(design),
+            None => return Ok(2),
+        },
+        None => None,
+    };
+    let (mut verdicts, part) = job.check(sim, &args.allow, &mut bar);
+    let comparison = design.map(|(design, tolerance)| job.judge(&part, &design, tolerance, &mut bar).comparison);
+    let mut problems = Problems::default();
     let mut reports = Vec::new();
     for (program, verdict) in job.programs().iter().zip(&mut verdicts) {
         if args.deny == Some(Deny::Warnings) {
@@ -175,8 +240,7 @@ fn job(args: &CheckArgs) -> Result<i32> {
                 finding.diagnostic.severity = Severity::Error;
             }
         }
-        let e = verdict.findings.iter().filter(|f| f.diagnostic.is_error()).count();
-        (errors, warnings) = (errors + e, warnings + verdict.findings.len() - e);
+        problems = problems.and(Problems::of(verdict));
         let source = program.source();
         match args.format {
             Output::Text => {
@@ -187,28 +251,34 @@ fn job(args: &CheckArgs) -> Result<i32> {
                 if !verdict.findings.is_empty() {
                     eprint!("{}", report.render(&source.name(), source.open(), styled()));
                 }
-                print!("{}", summary_text(&source.name(), verdict, program.config()));
+                print!("{}", summary_text(&source.name(), verdict, program.config(), Problems::default()));
             }
             Output::Json => reports.push(JsonReport::new(&source.name(), verdict)),
         }
     }
+    // The design is the job's part's, so it counts for the job.
+    problems = problems.and(Problems::of_design(comparison.as_ref(), args.deny.is_some()));
     let names: Vec<String> = job.programs().iter().map(|p| p.source().name()).collect();
     match args.format {
         Output::Text => {
-            let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-            let verdict = match (errors, warnings) {
-                (0, 0) => "no problems found".to_string(),
-                (e, w) => format!("{}, {}", plural(e, "error"), plural(w, "warning")),
-            };
-            println!("job {}: {verdict}", names.join(", then "));
+            println!("job {}: {}", names.join(", then "), problems.text());
+            if let Some(c) = &comparison {
+                let units = job.programs()[0].config().units;
+                print!("{}", super::compare::deviations(c, units.abbreviation(), units.decimals()));
+            }
         }
         Output::Json => {
-            let json = serde_json::to_string_pretty(&JsonJob { version: 1, errors, warnings, programs: reports })
-                .context("cannot write the report")?;
-            println!("{json}");
+            let job = JsonJob {
+                version: 1,
+                errors: problems.errors,
+                warnings: problems.warnings,
+                programs: reports,
+                design: comparison.as_ref(),
+            };
+            println!("{}", serde_json::to_string_pretty(&job).context("cannot write the report")?);
         }
     }
-    Ok(i32::from(errors > 0))
+    Ok(i32::from(problems.errors > 0))
 }
 
 /// `--stock-from`'s mesh, if given.
@@ -227,24 +297,19 @@ struct JsonJob<'a> {
     errors: usize,
     warnings: usize,
     programs: Vec<JsonReport<'a>>,
+    /// `--design`'s comparison of the part the whole job leaves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    design: Option<&'a Comparison>,
 }
 
 /// The summary for people: a heading line, then one line a fact.
-fn summary_text(name: &str, verdict: &Verdict, config: &Config) -> String {
+/// `design`: what `--design` found, counted with the findings.
+fn summary_text(name: &str, verdict: &Verdict, config: &Config, design: Problems) -> String {
     let s = &verdict.summary;
     let decimals = config.units.decimals();
     let unit = s.units;
-    let (errors, warnings) = verdict.findings.iter().fold((0, 0), |(e, w), f| match f.diagnostic.severity {
-        Severity::Error => (e + 1, w),
-        Severity::Warning => (e, w + 1),
-    });
     let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-    let mut out = match (errors, warnings) {
-        (0, 0) => format!("{name}: no problems found\n"),
-        (e, 0) => format!("{name}: {}\n", plural(e, "error")),
-        (0, w) => format!("{name}: {}\n", plural(w, "warning")),
-        (e, w) => format!("{name}: {}, {}\n", plural(e, "error"), plural(w, "warning")),
-    };
+    let mut out = format!("{name}: {}\n", Problems::of(verdict).and(design).text());
     let boxed = |b: &Option<Bounds>| match b {
         None => "none".to_string(),
         Some(b) => format!(

@@ -17,15 +17,17 @@ use ger_core::config::{Bounds, Config};
 use ger_core::statement::Units;
 use ger_engine::compare::{heat_map, Comparison, Design, Deviation};
 use ger_engine::sim::Stock;
-use ger_engine::{place_design, Purpose};
+use ger_engine::{default_tolerance, place_design, Job, Purpose, Source};
 use ger_output::OutputFile;
 
 #[derive(Args)]
 pub(crate) struct CompareArgs {
     #[command(flatten)]
     common: CommonArgs,
-    /// The design: a closed mesh, binary or ASCII STL.
-    design: PathBuf,
+    /// More programs, cut after FILE on the same stock in this order (a
+    /// job), then last the design: a closed mesh, binary or ASCII STL.
+    #[arg(value_name = "MORE... DESIGN", required = true)]
+    rest: Vec<PathBuf>,
     #[command(flatten)]
     placing: DesignArgs,
     /// How to report.
@@ -60,6 +62,16 @@ impl DesignArgs {
     /// The design at `path`, placed over `stock`, and the tolerance; `None`
     /// (the usage error said) when the tolerance is out of bounds.
     pub(crate) fn load(&self, path: &Path, config: &Config, stock: &Stock) -> Result<Option<(Design, f64)>> {
+        let Some(view) = self.for_view(path, config)? else { return Ok(None) };
+        let mut design = view.mesh;
+        place_design(&mut design, config, view.units.unwrap_or(config.units), view.origin, stock);
+        Ok(Some((design, view.tolerance.unwrap_or(default_tolerance(config.units)))))
+    }
+
+    /// The design at `path` as read, with how to place and judge it (as
+    /// `ger view` takes it: the stock changes with each snapshot); `None`
+    /// (the usage error said) when the tolerance is out of bounds on `config`'s machine.
+    pub(crate) fn for_view(&self, path: &Path, config: &Config) -> Result<Option<ger_view::DesignOptions>> {
         let bounds = Bounds::of(config.units);
         if self.tolerance.is_some_and(|t| !(0.0..=bounds.tool).contains(&t)) {
             usage_error(&format!("--tolerance must be from 0 to {} {}", bounds.tool, config.units.abbreviation()))?;
@@ -67,18 +79,12 @@ impl DesignArgs {
         }
         let name = path.display().to_string();
         let file = std::fs::File::open(path).with_context(|| format!("cannot read {name}"))?;
-        let mut design =
-            Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad design {name}"))?;
-        let units = self.design_units.map_or(config.units, |u| match u {
+        let mesh = Design::read(&mut std::io::BufReader::new(file)).with_context(|| format!("bad design {name}"))?;
+        let units = self.design_units.map(|u| match u {
             UnitsArg::Inch => Units::Inch,
             UnitsArg::Mm => Units::Mm,
         });
-        place_design(&mut design, config, units, self.design_origin, stock);
-        let tolerance = self.tolerance.unwrap_or(match config.units {
-            Units::Mm => 0.05,
-            Units::Inch => 0.002,
-        });
-        Ok(Some((design, tolerance)))
+        Ok(Some(ger_view::DesignOptions { name, mesh, units, origin: self.design_origin, tolerance: self.tolerance }))
     }
 }
 
@@ -91,23 +97,34 @@ fn triple(text: &str) -> Result<[f64; 3]> {
 }
 
 pub(crate) fn compare(args: &CompareArgs) -> Result<i32> {
-    let mut program = args.common.program(Purpose::Cut)?;
-    let config = program.config().clone();
-    let name = args.design.display().to_string();
+    let Some((design_path, more)) = args.rest.split_last() else { return usage_error("give the design (an STL)") };
+    let mut rest = Vec::new();
+    for path in more {
+        rest.push(args.common.program_of(Source::open_path(path)?, Purpose::Cut)?);
+    }
+    let mut job = Job::new(args.common.program(Purpose::Cut)?, rest);
+    let config = job.programs()[0].config().clone();
+    let name = design_path.display().to_string();
     let heat = args.heat_map.as_ref().map(|path| OutputFile::create(path).with_context(|| cannot_write(path)));
     let heat = heat.transpose()?;
-    let source = program.source().clone();
     let mut bar = Bar::new(args.quiet || args.format == Output::Json);
-    let (stock, _) = program.stock(&mut bar);
-    let Some((design, tolerance)) = args.placing.load(&args.design, &config, &stock)? else { return Ok(2) };
-    let asked = args.grid.asked();
-    let sim = match program.simulation(stock, asked) {
+    let (stock, reports) = job.stock(&mut bar);
+    if reports.iter().any(|r| r.errors() > 0) {
+        for (report, program) in reports.iter().zip(job.programs()) {
+            super::show(report, program.source());
+        }
+        return Ok(1);
+    }
+    let Some((design, tolerance)) = args.placing.load(design_path, &config, &stock)? else { return Ok(2) };
+    let sim = match job.simulation(stock, args.grid.asked()) {
         Ok(sim) => sim,
-        Err(err) => return refused(err, &args.common, &source),
+        Err(err) => return refused(err, &args.common, job.programs()[0].source()),
     };
-    let (judged, field, report) = program.compare(sim, &design, tolerance, &mut bar);
-    super::show(&report, &source);
-    if report.errors() > 0 {
+    let (judged, field, reports) = job.compare(sim, &design, tolerance, &mut bar);
+    for (report, program) in reports.iter().zip(job.programs()) {
+        super::show(report, program.source());
+    }
+    if reports.iter().any(|r| r.errors() > 0) {
         return Ok(1);
     }
     let c = &judged.comparison;
@@ -116,10 +133,12 @@ pub(crate) fn compare(args: &CompareArgs) -> Result<i32> {
         let image = heat_map(&field, &judged.verdicts, tolerance, 800, 600, unit);
         save(output, path, |out| image.write_png(out))?;
     }
+    let files: Vec<String> = job.programs().iter().map(|p| p.source().name()).collect();
     match args.format {
-        Output::Text => print!("{}", text(&source.name(), &name, c, unit, config.units.decimals())),
+        Output::Text => print!("{}", text(&files.join(", then "), &name, c, unit, config.units.decimals())),
         Output::Json => {
-            let json = JsonReport { version: 1, file: source.name(), design: name, units: unit, comparison: c };
+            let json =
+                JsonReport { version: 1, file: files[0].clone(), files, design: name, units: unit, comparison: c };
             println!("{}", serde_json::to_string_pretty(&json).context("cannot write the report")?);
         }
     }
@@ -151,9 +170,16 @@ pub(crate) fn deviations(c: &Comparison, unit: &str, d: usize) -> String {
                 "{:.d$} {unit} {what}, at X {x:.d$} Y {y:.d$}; {:.d$} {unit}² and {:.d$} {unit}³ beyond the tolerance",
                 dev.worst, dev.area, dev.volume
             );
+            let lines = |numbers: &[u32]| {
+                let numbers: Vec<String> = numbers.iter().map(u32::to_string).collect();
+                format!("line{} {}", if numbers.len() == 1 { "" } else { "s" }, numbers.join(", "))
+            };
             if !dev.lines.is_empty() {
-                let lines: Vec<String> = dev.lines.iter().map(u32::to_string).collect();
-                let _ = write!(line, "; cut by line{} {}", if lines.len() == 1 { "" } else { "s" }, lines.join(", "));
+                let _ = write!(line, "; cut by {}", lines(&dev.lines));
+            } else if !dev.cut_by.is_empty() {
+                // A job's: each program's lines.
+                let by: Vec<String> = dev.cut_by.iter().map(|c| format!("{} {}", c.file, lines(&c.lines))).collect();
+                let _ = write!(line, "; cut by {}", by.join(" and "));
             }
             line
         }
@@ -165,7 +191,10 @@ pub(crate) fn deviations(c: &Comparison, unit: &str, d: usize) -> String {
 #[derive(Serialize)]
 struct JsonReport<'a> {
     version: u32,
+    /// The first program.
     file: String,
+    /// Every program, in the order they cut: one, or a job's.
+    files: Vec<String>,
     design: String,
     units: &'static str,
     #[serde(flatten)]

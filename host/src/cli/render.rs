@@ -305,7 +305,8 @@ pub(crate) fn render(args: &RenderArgs) -> Result<i32> {
     match format {
         Format::Stl => save(output, &args.output, |out| Mesh::new(&field).write_stl(out))?,
         Format::TwoD => {
-            let image = top::render(&field, camera.width, camera.height, config.units.abbreviation());
+            let fixtures = Solid::fixtures(&config);
+            let image = top::render(&field, &fixtures, camera.width, camera.height, config.units.abbreviation());
             save(output, &args.output, |out| image.write_png(out))?;
         }
         Format::ThreeD => {

@@ -21,7 +21,7 @@ use ger_core::config::{Config, ToolKind};
 use ger_core::diag::{Diagnostic, Origin, Span};
 use ger_core::statement::{Kind, Machine, Statement};
 use ger_core::tools::ToolSource;
-use ger_sim::{Contact, Guard, HeightField, Part, PartKind, Point, Segment, Simulation, Solid, Tracker};
+use ger_sim::{Contact, Guard, HeightField, Intrusion, Part, PartKind, Point, Segment, Simulation, Solid, Tracker};
 pub use summary::{Bounds, Summary, ToolUse};
 use timing::Timing;
 pub use timing::{outermost_line, CallTime, Planned, ProfileUsed, ToolTime};
@@ -256,21 +256,35 @@ impl<'c> Checker<'c> {
         let Some(guards) = &self.guards else { return };
         let parts = guards.parts.clone();
         if !self.allowed.contains(&Rule::Fixture) {
-            let hits: Vec<String> = self
-                .fixtures
-                .iter()
-                .filter_map(|(solid, name)| {
-                    let hit = self.sim.intrusion(solid, &m.segment, &guards.assembly)?;
-                    let part = guards.assembly_parts[hit.part].map_or("cutting edge".to_string(), self::name);
-                    Some(format!("its {part} goes {} into fixture \"{name}\"", self.length(hit.depth)))
-                })
-                .collect();
+            let clearance = if self.allowed.contains(&Rule::Clearance) { 0.0 } else { self.config.clearance() };
+            let (mut hits, mut near) = (Vec::new(), Vec::new());
+            for (solid, name) in &self.fixtures {
+                let part =
+                    |hit: Intrusion| guards.assembly_parts[hit.part].map_or("cutting edge".to_string(), self::name);
+                if let Some(hit) = self.sim.intrusion(solid, &m.segment, &guards.assembly) {
+                    hits.push(format!("its {} goes {} into fixture \"{name}\"", part(hit), self.length(hit.depth)));
+                } else if clearance > 0.0 {
+                    if let Some(hit) = self.sim.intrusion(&solid.grown(clearance), &m.segment, &guards.assembly) {
+                        near.push(format!(
+                            "its {} passes within {} of fixture \"{name}\"",
+                            part(hit),
+                            self.length(clearance)
+                        ));
+                    }
+                }
+            }
+            let at = if m.rapid { " in a rapid move (G00)" } else { "" };
             if !hits.is_empty() {
-                let at = if m.rapid { " in a rapid move (G00)" } else { "" };
                 let diagnostic =
                     Diagnostic::error(statement.span, format!("tool {}{at}: {}", tool.number, hits.join("; ")))
                         .with_help("the fixtures are [[fixtures]] in ger.toml: move the tool round them, or above");
                 self.report(Rule::Fixture, tag, diagnostic.with_origin(statement.origin.clone()));
+            }
+            if !near.is_empty() {
+                let diagnostic =
+                    Diagnostic::warning(statement.span, format!("tool {}{at}: {}", tool.number, near.join("; ")))
+                        .with_help("keep [check] clearance from the [[fixtures]] in ger.toml: a fixture is never quite where it is drawn");
+                self.report(Rule::Clearance, tag, diagnostic.with_origin(statement.origin.clone()));
             }
         }
         let Some(guards) = &self.guards else { return };

@@ -412,7 +412,8 @@ fn a_rapid_through_a_clamp_is_an_error_naming_it() {
     assert_eq!(found(&check_with(high, &config, &[])), Vec::<String>::new());
     // A bolt's head, 10 across and 6 high at (50, 20): the 6 mm tool along
     // Y20 at Z4 meets it with the flat of its tip, 2 mm down; along Y28.1 it
-    // clears it by a tenth (the tool's edge at 25.1, the bolt's at 25).
+    // clears it by a tenth (the tool's edge at 25.1, the bolt's at 25), within
+    // the 0.5 mm clearance; along Y28.7, by 0.7, beyond it.
     config.fixtures = vec![Fixture {
         name: "bolt".to_string(),
         min: None,
@@ -427,7 +428,11 @@ fn a_rapid_through_a_clamp_is_an_error_naming_it() {
         found(&verdict),
         ["4: fixture: tool 1 in a rapid move (G00): its cutting edge goes 2.000 mm into fixture \"bolt\""]
     );
-    assert_eq!(found(&check_with("G21\nG00 Z4\nX10 Y28.1\nX90\nM30\n", &config, &[])), Vec::<String>::new());
+    assert_eq!(
+        found(&check_with("G21\nG00 Z4\nX10 Y28.1\nX90\nM30\n", &config, &[])),
+        ["4: clearance: tool 1 in a rapid move (G00): its cutting edge passes within 0.500 mm of fixture \"bolt\""]
+    );
+    assert_eq!(found(&check_with("G21\nG00 Z4\nX10 Y28.7\nX90\nM30\n", &config, &[])), Vec::<String>::new());
 }
 
 #[test]

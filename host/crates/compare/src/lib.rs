@@ -95,7 +95,31 @@ impl Design {
             let slack = -1e-9;
             for j in j0..=j1 as usize {
                 let y = origin[1] + (j as f64 + 0.5) * cy;
-                for i in i0..=i1 as usize {
+                // Only the cells the row's line crosses the triangle over (a cell either side
+                // for rounding): a long thin triangle across the grid has a box of most of it.
+                let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for (p, q) in [(a, b), (b, c), (c, a)] {
+                    let (y_lo, y_hi) = (p[1].min(q[1]), p[1].max(q[1]));
+                    if y < y_lo || y > y_hi {
+                        continue;
+                    }
+                    // A level edge on the row's line: all of it.
+                    let [u, v] = if q[1] == p[1] {
+                        [p[0], q[0]]
+                    } else {
+                        [p[0] + (y - p[1]) / (q[1] - p[1]) * (q[0] - p[0]); 2]
+                    };
+                    (x_lo, x_hi) = (x_lo.min(u).min(v), x_hi.max(u).max(v));
+                }
+                if x_lo > x_hi {
+                    continue;
+                }
+                let from = first(x_lo, origin[0], cx, nx).saturating_sub(1).max(i0);
+                let to = (last(x_hi, origin[0], cx, nx) + 1.0).min(i1);
+                if to < from as f64 {
+                    continue;
+                }
+                for i in from..=to as usize {
                     let x = origin[0] + (i as f64 + 0.5) * cx;
                     let wa = ((b[0] - x) * (c[1] - y) - (c[0] - x) * (b[1] - y)) / area;
                     let wb = ((c[0] - x) * (a[1] - y) - (a[0] - x) * (c[1] - y)) / area;
@@ -138,7 +162,19 @@ pub struct Deviation {
     /// The volume between the part and the design over those cells.
     pub volume: f64,
     /// For gouges: the lines of the moves that cut below the design there
-    /// (filled by the caller, who has the moves, from [`Judged::gouged`]).
+    /// (filled by the caller, who has the moves, from [`Judged::gouged`]),
+    /// when one program cut the part; empty for a job (see `cut_by`).
+    pub lines: Vec<u32>,
+    /// For gouges: those lines by program, in the order the programs ran;
+    /// only the programs that gouged.
+    pub cut_by: Vec<ProgramLines>,
+}
+
+/// The lines of one program.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ProgramLines {
+    /// The program's name, as the report names it.
+    pub file: String,
     pub lines: Vec<u32>,
 }
 
@@ -146,10 +182,10 @@ pub struct Deviation {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
     /// The design has nothing over it.
-    Unjudged,
-    Within,
-    Gouged,
-    Left,
+    Unjudged = 0,
+    Within = 1,
+    Gouged = 2,
+    Left = 3,
 }
 
 /// At most this many gouged cells are kept for finding the moves that cut them: the deepest.

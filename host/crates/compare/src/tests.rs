@@ -64,3 +64,28 @@ fn placing_scales_then_shifts() {
     let (lo, hi) = design.bounds();
     assert!(lo.abs_diff_eq(Point::new(1.0, 2.0, 3.0), 1e-9) && hi.abs_diff_eq(Point::new(102.6, 103.6, 79.2), 1e-9));
 }
+
+#[test]
+fn a_long_thin_triangle_across_the_grid_covers_the_cells_under_it_alone() {
+    // From (0, 0) to (20, 20) and (20, 19): between y = x and y = 0.95 x, up to x = 20, level at z 2.
+    // Its box is the whole 20 x 20 grid; it covers a sliver of it.
+    let design = Design {
+        triangles: vec![[Point::new(0.0, 0.0, 2.0), Point::new(20.0, 19.0, 2.0), Point::new(20.0, 20.0, 2.0)]],
+    };
+    let stock = Stock { min: Point::new(0.0, 0.0, 0.0), max: Point::new(20.0, 20.0, 3.0) };
+    let field = HeightField::new(stock, 0.1).unwrap();
+    let top = design.top_surface(&field);
+    let mut covered = 0;
+    for j in 0..field.ny {
+        for i in 0..field.nx {
+            let [x, y] = field.centre(i, j);
+            let inside = y <= x && y >= 0.95 * x && x <= 20.0;
+            let got = top[j * field.nx + i];
+            assert_eq!(got.is_some(), inside, "({x}, {y})");
+            assert!(got.is_none_or(|z| (z - 2.0).abs() < 1e-9), "({x}, {y}): {got:?}");
+            covered += usize::from(inside);
+        }
+    }
+    // Its 10 mm² in cells of 0.01 mm², and the 200 centres on its edge along y = x.
+    assert_eq!(covered, 1100);
+}

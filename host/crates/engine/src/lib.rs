@@ -38,7 +38,9 @@ mod report;
 mod source;
 
 pub use machine::{ConfigError, Purpose, Settings};
-pub use program::{carve, place_design, stock_of, Culprit, Extent, Job, Program, Refused, Resolution};
+pub use program::{
+    carve, default_tolerance, place_design, stock_of, Culprit, Extent, Job, Program, Refused, Resolution,
+};
 pub use progress::{Progress, Silent};
 pub use report::Report;
 pub use source::{ReadError, Source};

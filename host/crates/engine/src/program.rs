@@ -339,29 +339,7 @@ impl Program {
         tolerance: f64,
         progress: &mut dyn Progress,
     ) -> Judged {
-        let top = design.top_surface(field);
-        let mut judged = ger_compare::compare(field, &top, tolerance);
-        if !judged.gouged.is_empty() {
-            // Those cells cut again, in program order: a move that lowered one below the design gouged it.
-            let mut lines = std::collections::BTreeSet::new();
-            let cell = field.cell;
-            let mut cells: Vec<([f64; 2], f64, f64)> =
-                judged.gouged.iter().map(|&(at, below)| (at, below, field.top())).collect();
-            self.parts().moves("attributing", progress, |m, cutter| {
-                let Some(cutter) = cutter else { return };
-                for (at, below, height) in &mut cells {
-                    let low = ger_sim::lowest_over(&m.segment, &cutter, at[0], at[1], cell);
-                    if low < *height {
-                        *height = low;
-                        if low < *below {
-                            lines.insert(m.span.line);
-                        }
-                    }
-                }
-            });
-            judged.comparison.gouge.lines = lines.into_iter().collect();
-        }
-        judged
+        judge(std::slice::from_mut(self), field, design, tolerance, progress)
     }
 
     /// The verifier's verdict, cutting `simulation`'s stock: the translation's
@@ -435,15 +413,21 @@ impl Job {
     /// and each one's report.
     pub fn simulate(&mut self, simulation: Simulation, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
         let (part, first) = self.programs[0].simulate(simulation, progress);
-        let (part, mut reports) = self.simulate_on(part, progress);
+        let (part, mut reports) = self.simulate_after(0, part, progress);
         reports.insert(0, first);
         (part, reports)
     }
 
-    /// The programs after the first cut on `part`, as the first left it, and their reports.
-    pub fn simulate_on(&mut self, mut part: HeightField, progress: &mut dyn Progress) -> (HeightField, Vec<Report>) {
+    /// The programs after the one at `index` cut on `part`, as that one
+    /// left it, and their reports.
+    pub fn simulate_after(
+        &mut self,
+        index: usize,
+        mut part: HeightField,
+        progress: &mut dyn Progress,
+    ) -> (HeightField, Vec<Report>) {
         let mut reports = Vec::new();
-        for program in &mut self.programs[1..] {
+        for program in &mut self.programs[index + 1..] {
             let report;
             (part, report) = program.simulate(Simulation::resume(part), progress);
             reports.push(report);
@@ -467,6 +451,78 @@ impl Job {
         }
         (verdicts, simulation.finish())
     }
+
+    /// The part the programs cut in turn out of `simulation`'s stock against
+    /// `design`, as [`Program::compare`] judges one program's: the lines
+    /// that gouged are each program's, named in [`Deviation::cut_by`](ger_compare::Deviation).
+    pub fn compare(
+        &mut self,
+        simulation: Simulation,
+        design: &Design,
+        tolerance: f64,
+        progress: &mut dyn Progress,
+    ) -> (Judged, HeightField, Vec<Report>) {
+        let (field, reports) = self.simulate(simulation, progress);
+        let judged = self.judge(&field, design, tolerance, progress);
+        (judged, field, reports)
+    }
+
+    /// `part`, which the programs cut in turn, against `design` (see [`Job::compare`]).
+    pub fn judge(
+        &mut self,
+        field: &HeightField,
+        design: &Design,
+        tolerance: f64,
+        progress: &mut dyn Progress,
+    ) -> Judged {
+        judge(&mut self.programs, field, design, tolerance, progress)
+    }
+}
+
+/// `field`, which `programs` cut in turn, against `design`: the comparison,
+/// with the lines of the moves that cut below the design where it is
+/// gouged deepest. Those cells are cut again in the programs' order, by the
+/// kernel alone: a move that lowered one below the design gouged it.
+fn judge(
+    programs: &mut [Program],
+    field: &HeightField,
+    design: &Design,
+    tolerance: f64,
+    progress: &mut dyn Progress,
+) -> Judged {
+    let top = design.top_surface(field);
+    let mut judged = ger_compare::compare(field, &top, tolerance);
+    if judged.gouged.is_empty() {
+        return judged;
+    }
+    let cell = field.cell;
+    let mut cells: Vec<([f64; 2], f64, f64)> =
+        judged.gouged.iter().map(|&(at, below)| (at, below, field.top())).collect();
+    let mut cut_by = Vec::new();
+    for program in programs.iter_mut() {
+        let mut lines = std::collections::BTreeSet::new();
+        program.parts().moves("attributing", progress, |m, cutter| {
+            let Some(cutter) = cutter else { return };
+            for (at, below, height) in &mut cells {
+                let low = ger_sim::lowest_over(&m.segment, &cutter, at[0], at[1], cell);
+                if low < *height {
+                    *height = low;
+                    if low < *below {
+                        lines.insert(m.span.line);
+                    }
+                }
+            }
+        });
+        if !lines.is_empty() {
+            cut_by.push(ger_compare::ProgramLines { file: program.source.name(), lines: lines.into_iter().collect() });
+        }
+    }
+    let gouge = &mut judged.comparison.gouge;
+    if programs.len() == 1 {
+        gouge.lines = cut_by.first().map(|c| c.lines.clone()).unwrap_or_default();
+    }
+    gouge.cut_by = cut_by;
+    judged
 }
 
 /// A stock that starts as `mesh` (a casting, an earlier job's part), in
@@ -480,6 +536,14 @@ pub fn stock_of(mesh: &Design) -> Stock {
 pub fn carve(simulation: &mut Simulation, mesh: &Design) {
     let top = mesh.top_surface(simulation.field());
     simulation.carve(&top);
+}
+
+/// How far a part may be off its design unless the caller says: 0.05 mm, 0.002 in.
+pub fn default_tolerance(units: Units) -> f64 {
+    match units {
+        Units::Mm => 0.05,
+        Units::Inch => 0.002,
+    }
 }
 
 /// Puts `design` where the part is: its coordinates are in `units`

@@ -417,3 +417,44 @@ fn a_finishing_program_after_its_roughing_is_judged_against_what_roughing_left()
     assert_eq!(verdicts[0].summary.cut_box.unwrap().min[2], -4.5);
     assert_eq!(verdicts[1].summary.cut_box.unwrap().min[2], -5.0);
 }
+
+#[test]
+fn a_job_is_compared_on_the_part_all_its_programs_leave_and_its_gouges_name_the_program() {
+    let toml = "units = \"mm\"\n[stock]\nsize = [100, 50, 20]\norigin = [0, 0, 20]\n\
+                [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 10\nflute_length = 20\n";
+    let config = Config::from_toml(toml).unwrap();
+    let program = |name, text| Program::new(Source::text(name, ".", text), config.clone());
+    // Roughing: the slot 4 mm deep of its 5. Finishing: a rapid down into the roughed slot (line 4),
+    // the last millimetre, then 0.3 mm deeper from X50 to X70 (lines 8 and 9).
+    let rough = "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG01 Z-4 F500\nX110\nG00 Z5\nM30\n";
+    let finish =
+        "G21\nM03 S10000\nG00 X-10 Y25 Z1\nG00 Z-3\nG01 Z-5 F500\nX110\nG00 X50 Z1\nG01 Z-5.3\nX70\nG00 Z5\nM30\n";
+    let compare = |programs: Vec<Program>| {
+        let mut programs = programs.into_iter();
+        let mut job = crate::Job::new(programs.next().unwrap(), programs.collect());
+        let mut design = crate::compare::Design::read(&mut std::io::Cursor::new(slotted_block())).unwrap();
+        let (stock, _) = job.stock(&mut Silent);
+        crate::place_design(&mut design, &config, Units::Mm, None, &stock);
+        let sim = job.simulation(stock, Resolution { cell: Some(0.1), ..Resolution::default() }).unwrap();
+        job.compare(sim, &design, 0.05, &mut Silent).0.comparison
+    };
+
+    // The roughing alone leaves the slot's last millimetre: 10 x 100 mm, 1000 mm³.
+    let c = compare(vec![program("rough.nc", rough)]);
+    assert!((c.left.worst - 1.0).abs() < 1e-5 && c.gouge.area == 0.0, "{c:?}");
+    assert!((c.left.volume - 1000.0).abs() / 1000.0 < 0.02, "{:?}", c.left);
+
+    // Both: the gouge of the finishing pass, 0.3 mm over the stadium 20 x 10 mm with round ends,
+    // by the finishing program's lines alone (the roughing never went below the design).
+    let c = compare(vec![program("rough.nc", rough), program("finish.nc", finish)]);
+    let area = 200.0 + 25.0 * std::f64::consts::PI;
+    assert!((c.gouge.worst - 0.3).abs() < 1e-5 && c.left.area == 0.0, "{c:?}");
+    assert!((c.gouge.area - area).abs() / area < 0.02, "{} vs {area}", c.gouge.area);
+    let cut_by: Vec<(&str, &[u32])> = c.gouge.cut_by.iter().map(|c| (c.file.as_str(), &c.lines[..])).collect();
+    assert_eq!(cut_by, [("finish.nc", &[8, 9][..])]);
+    assert!(c.gouge.lines.is_empty(), "a job's lines are by program: {:?}", c.gouge.lines);
+
+    // One program's lines are also named plainly, as before.
+    let c = compare(vec![program("finish.nc", finish)]);
+    assert_eq!(c.gouge.lines, [8, 9]);
+}

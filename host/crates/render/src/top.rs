@@ -1,8 +1,10 @@
 //! The 2D display: the stock seen from above, each cell shaded by its depth
-//! of cut (light: uncut, dark: deepest), with a depth legend and a scale bar.
+//! of cut (light: uncut, dark: deepest), the fixtures over it in their own
+//! colour, with a depth legend and a scale bar.
 
+use super::view::FIXTURE;
 use super::{font, label, mix, round_length, Image, BLACK, WHITE};
-use ger_sim::HeightField;
+use ger_sim::{HeightField, Solid};
 
 /// Uncut stock.
 pub const SURFACE: [u8; 3] = [238, 226, 198];
@@ -34,6 +36,11 @@ pub struct Placement {
 
 pub fn placement(field: &HeightField, width: u32, height: u32) -> Placement {
     let size = field.stock.size();
+    placement_of([size[0], size[1]], width, height)
+}
+
+/// Where a box `size` across (X, Y) is drawn.
+fn placement_of(size: [f64; 2], width: u32, height: u32) -> Placement {
     let room_w = (width as i64 - 2 * PAD - LEGEND).max(8) as f64;
     let room_h = (height as i64 - 2 * PAD - FOOTER).max(8) as f64;
     let scale = (room_w / size[0]).min(room_h / size[1]);
@@ -47,19 +54,53 @@ pub fn placement(field: &HeightField, width: u32, height: u32) -> Placement {
     }
 }
 
-/// The top view, `width` x `height` pixels; `unit` labels the legend ("mm", "in").
-pub fn render(field: &HeightField, width: u32, height: u32, unit: &str) -> Image {
+/// The top view, `width` x `height` pixels, of the part and the `fixtures`
+/// over it (the picture takes in both); `unit` labels the legend ("mm", "in").
+pub fn render(field: &HeightField, fixtures: &[Solid], width: u32, height: u32, unit: &str) -> Image {
     let mut image = Image::new(width, height, WHITE);
-    let place = placement(field, width, height);
+    let stock = field.stock;
+    let (mut lo, mut hi) = ([stock.min[0], stock.min[1]], [stock.max[0], stock.max[1]]);
+    for fixture in fixtures {
+        let (a, b) = fixture.bounds();
+        (lo, hi) = ([lo[0].min(a[0]), lo[1].min(a[1])], [hi[0].max(b[0]), hi[1].max(b[1])]);
+    }
+    let place = placement_of([hi[0] - lo[0], hi[1] - lo[1]], width, height);
+    // The point of the drawn box at the centre of pixel (px, py) of the placement; Y up.
+    let at = |px: i64, py: i64| {
+        let u = (px as f64 + 0.5) / place.width as f64;
+        let v = ((place.height - 1 - py) as f64 + 0.5) / place.height as f64;
+        (lo[0] + u * (hi[0] - lo[0]), lo[1] + v * (hi[1] - lo[1]))
+    };
     let top = field.top();
     let max = top - field.lowest();
+    let size = stock.size();
     for py in 0..place.height {
-        // Y up: the picture's first row is the stock's far edge.
-        let j = (((place.height - 1 - py) as f64 + 0.5) / place.height as f64 * field.ny as f64) as usize;
         for px in 0..place.width {
-            let i = ((px as f64 + 0.5) / place.width as f64 * field.nx as f64) as usize;
+            let (x, y) = at(px, py);
+            let (u, v) = ((x - stock.min[0]) / size[0], (y - stock.min[1]) / size[1]);
+            if !(0.0..1.0).contains(&u) || !(0.0..1.0).contains(&v) {
+                continue;
+            }
+            let (i, j) = ((u * field.nx as f64) as usize, (v * field.ny as f64) as usize);
             let depth = top - field.get(i.min(field.nx - 1), j.min(field.ny - 1));
             image.set(place.left + px, place.top + py, shade(depth, max));
+        }
+    }
+    // Fixtures over the part, two thirds opaque (what they hold shows through), with a darker rim.
+    let rim = FIXTURE.map(|c| c / 2);
+    for py in 0..place.height {
+        for px in 0..place.width {
+            let inside = |px, py| {
+                let (x, y) = at(px, py);
+                fixtures.iter().any(|f| f.covers(x, y))
+            };
+            if !inside(px, py) {
+                continue;
+            }
+            let edge = [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| !inside(px + dx, py + dy));
+            let (x, y) = (place.left + px, place.top + py);
+            let under = image.get(x as u32, y as u32);
+            image.set(x, y, if edge { rim } else { mix(under, FIXTURE, 0.65) });
         }
     }
     legend(&mut image, max, unit);

@@ -55,7 +55,19 @@ impl Solid {
         }
     }
 
-    fn covers(&self, x: f64, y: f64) -> bool {
+    /// Grown by `by` on every side and on top: what a tool within `by` of
+    /// it enters (a square edge where growing would round it).
+    pub fn grown(&self, by: f64) -> Solid {
+        match *self {
+            Solid::Box { min, max } => Solid::Box { min: min - Point::splat(by), max: max + Point::splat(by) },
+            Solid::Cylinder { centre, radius, bottom, top } => {
+                Solid::Cylinder { centre, radius: radius + by, bottom: bottom - by, top: top + by }
+            }
+        }
+    }
+
+    /// Whether it stands over the point (x, y).
+    pub fn covers(&self, x: f64, y: f64) -> bool {
         match *self {
             Solid::Box { min, max } => (min[0]..=max[0]).contains(&x) && (min[1]..=max[1]).contains(&y),
             Solid::Cylinder { centre, radius, .. } => (x - centre[0]).hypot(y - centre[1]) <= radius,

@@ -19,7 +19,9 @@ mod watch;
 use std::net::TcpListener;
 use std::path::PathBuf;
 
+use ger_engine::compare::Design;
 use ger_engine::core::config::Config;
+use ger_engine::core::statement::Units;
 use ger_engine::core::wizard::Wizards;
 use ger_engine::Settings;
 
@@ -38,6 +40,27 @@ pub struct Options {
     pub resolution: Option<f64>,
     /// MiB the height field may take [default: the config's, or 2048].
     pub memory_limit_mib: Option<u64>,
+    /// The job `file` is the first of ([`file`] alone, or more programs cut
+    /// after it on the same stock, in order). Viewing one of them, the ones
+    /// before it cut the stock first (it is checked against what they
+    /// left) and the ones after it then: the part is the whole job's.
+    pub job: Vec<PathBuf>,
+    /// The design the part is set beside (`--design`), as a layer.
+    pub design: Option<DesignOptions>,
+}
+
+/// A design, and how to place and judge it (see `ger_engine::place_design`).
+pub struct DesignOptions {
+    /// As the command line named it.
+    pub name: String,
+    /// As read: placed again on each snapshot's stock.
+    pub mesh: Design,
+    /// Its unit [default: the machine's].
+    pub units: Option<Units>,
+    /// Where program zero is in its coordinates [default: its lowest corner on the stock's].
+    pub origin: Option<[f64; 3]>,
+    /// [default: `ger_engine::default_tolerance`].
+    pub tolerance: Option<f64>,
 }
 
 /// Why `ger view` could not start or stopped.

@@ -56,6 +56,7 @@ pub(crate) async fn serve(listener: std::net::TcpListener, session: Arc<Session>
     let mut router = Router::new()
         .route("/api/state", get(state))
         .route("/api/heights", get(heights))
+        .route("/api/verdicts", get(verdicts))
         .route("/api/path", get(path))
         .route("/api/events", get(events))
         .route("/api/files", get(files))
@@ -149,6 +150,10 @@ fn binary(bytes: Bytes) -> Response {
 
 async fn heights(State(session): Shared, query: Result<Query<Wanted>, QueryRejection>) -> Result<Response, ApiError> {
     Ok(binary(wanted(&session, query)?.heights.clone()))
+}
+
+async fn verdicts(State(session): Shared, query: Result<Query<Wanted>, QueryRejection>) -> Result<Response, ApiError> {
+    Ok(binary(wanted(&session, query)?.verdicts.clone()))
 }
 
 async fn path(State(session): Shared, query: Result<Query<Wanted>, QueryRejection>) -> Result<Response, ApiError> {

@@ -14,12 +14,13 @@ use tokio::sync::watch;
 
 use crate::{Error, Options};
 use ger_engine::check::{outermost_line, Checker, Rule};
+use ger_engine::compare::Comparison;
 use ger_engine::core::diag::{Diagnostic, Severity, Span};
 use ger_engine::core::emit::{preamble, Emitter};
 use ger_engine::core::passes::Event;
 use ger_engine::render::pieces::{self, Piece};
-use ger_engine::sim::{HeightField, Step, Stock, Walker};
-use ger_engine::{Program, Purpose, Resolution, Silent, Source};
+use ger_engine::sim::{HeightField, Simulation, Solid, Step, Stock, Walker};
+use ger_engine::{default_tolerance, place_design, Job, Program, Purpose, Resolution, Silent, Source};
 use ger_output::OutputFile;
 
 /// Above this many pieces the toolpath sent to the page is decimated.
@@ -86,6 +87,8 @@ pub(crate) struct Snapshot {
     pub heights: Bytes,
     /// 32 bytes a piece of toolpath.
     pub path: Bytes,
+    /// `nx × ny` bytes, each cell's verdict against the design; empty without one.
+    pub verdicts: Bytes,
 }
 
 impl Snapshot {
@@ -107,7 +110,12 @@ pub(crate) struct Session {
 
 impl Session {
     /// Reads the program and starts the worker on its first snapshot.
-    pub fn start(options: Options) -> Result<Arc<Session>, Error> {
+    pub fn start(mut options: Options) -> Result<Arc<Session>, Error> {
+        // The job's programs by canonical path: the one opened is found among them by it.
+        for path in &mut options.job {
+            let cause = |cause| Error::Read { name: path.display().to_string(), cause };
+            *path = path.canonicalize().map_err(cause)?;
+        }
         let given = &options.file;
         let cannot = |cause: io::Error| Error::Read { name: given.display().to_string(), cause };
         let file = given.canonicalize().map_err(cannot)?;
@@ -352,6 +360,20 @@ struct Made {
     cell: f64,
     /// The planned run time, when the program moves.
     run_time: Option<RunTime>,
+    fixtures: Vec<JsonFixture>,
+    /// The names of the job's programs, when the program is one of them.
+    job: Vec<String>,
+    /// The part against `--design`, and each cell's verdict (`Verdict as u8`).
+    design: Option<JsonDesign>,
+    verdicts: Vec<u8>,
+}
+
+/// The part against its design, as `ger compare --format json` gives it.
+#[derive(Serialize)]
+struct JsonDesign {
+    file: String,
+    #[serde(flatten)]
+    comparison: Comparison,
 }
 
 /// The planned run time, as the snapshot gives it.
@@ -370,45 +392,87 @@ fn centiseconds(seconds: f64) -> f64 {
     (seconds * 100.0).round() / 100.0
 }
 
-/// Translates, checks and simulates `opened` on the machine `options` describe.
+/// Translates, checks and simulates `opened` on the machine `options` describe,
+/// with the programs of its job before and after it (see [`Options::job`]).
 fn make(options: &Options, opened: &Opened) -> Made {
     let dir = opened.file.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
     let source = Source::text(opened.name.clone(), dir, opened.text.clone());
     let mut made = Made::default();
-    let config = match options.settings.load(&source, Purpose::Cut) {
-        Ok(config) => config,
-        Err(err) => {
-            made.problems.push(err.render(false).trim_end().to_string());
+    let load = |source: Source| -> Result<Program, String> {
+        let config =
+            options.settings.load(&source, Purpose::Cut).map_err(|err| err.render(false).trim_end().to_string())?;
+        let wizards = (options.wizards)(&config);
+        Ok(Program::new(source, config).with_wizards(wizards))
+    };
+    let program = match load(source) {
+        Ok(program) => program,
+        Err(problem) => {
+            made.problems.push(problem);
             return made;
         }
     };
+    let config = program.config().clone();
     made.units = config.units.abbreviation();
-    let wizards = (options.wizards)(&config);
-    let mut program = Program::new(source, config).with_wizards(wizards);
-    // Without a size, the stock is where the program cuts: one pass to find it
-    // (as `ger check`), unless the program does not move.
-    let stock = Stock::from_config(program.config()).or_else(|| {
-        let extent = program.extent(&mut Silent);
-        extent.path_box.map(|_| extent.cut.stock_for(program.config()))
-    });
+    made.fixtures = config.fixtures.iter().map(|f| JsonFixture::of(&Solid::of(f, &config), &f.name)).collect();
+    // The job around it: none when the program opened is not one of the job's.
+    let at = options.job.iter().position(|path| *path == opened.file);
+    let (before, after) = at.map_or((&[][..], &[][..]), |k| (&options.job[..k], &options.job[k + 1..]));
+    let mut programs = Vec::new();
+    for path in before.iter().chain(after) {
+        match Source::open_path(path).map_err(|err| err.to_string()).and_then(load) {
+            Ok(program) => programs.push(program),
+            Err(problem) => made.problems.push(problem),
+        }
+    }
+    if !made.problems.is_empty() {
+        return made;
+    }
+    made.job = at.map_or_else(Vec::new, |_| options.job.iter().map(|p| name_of(p)).collect());
+    let after = programs.split_off(before.len());
+    let first = before.len();
+    programs.push(program);
+    programs.extend(after);
+    let mut job = Job::new(programs.remove(0), programs);
+    // Without a size, the stock is where the job cuts: one pass to find it
+    // (as `ger check`), unless the program alone does not move.
+    let stock = match job.programs().len() {
+        1 => Stock::from_config(&config).or_else(|| {
+            let extent = job.programs_mut()[0].extent(&mut Silent);
+            extent.path_box.map(|_| extent.cut.stock_for(&config))
+        }),
+        _ => Some(job.stock(&mut Silent).0),
+    };
     made.cell = stock.map_or(1.0, |stock| options.resolution.unwrap_or(view_cell(&stock)));
     let asked = Resolution { cell: Some(made.cell), memory_limit_mib: options.memory_limit_mib };
-    let simulation = stock.map(|stock| program.simulation(stock, asked));
-    let config = program.config().clone();
-    let mut checker = simulation.and_then(|simulation| match simulation {
-        Ok(sim) => Some(Checker::new(&config, sim, &[]).timing_lines()),
-        Err(refused) => {
+    let mut simulation = match stock.map(|stock| job.simulation(stock, asked)) {
+        Some(Ok(sim)) => Some(sim),
+        Some(Err(refused)) => {
             made.problems.push(refused.message);
             None
         }
-    });
+        None => None,
+    };
+    // The programs before it cut the stock it is checked on.
+    for program in &mut job.programs_mut()[..first] {
+        let Some(sim) = simulation.take() else { break };
+        let (part, report) = program.simulate(sim, &mut Silent);
+        if report.errors() > 0 {
+            made.problems.push(format!(
+                "{}: {} errors: the part shown is cut without it",
+                program.source().name(),
+                report.errors()
+            ));
+        }
+        simulation = Some(Simulation::resume(part));
+    }
+    let mut checker = simulation.map(|sim| Checker::new(&config, sim, &[]).timing_lines());
     let output = &mut made.output;
     output.push_str(&preamble(&opened.name, config.units));
     made.source_lines = vec![0; output.lines().count()];
     let emitter = Emitter::new(config.units.decimals(), true);
     let mut walker = Walker::new();
     // One pass makes the translation's text, the toolpath and the check.
-    program.for_each_event("checking", &mut Silent, |event| {
+    job.programs_mut()[first].for_each_event("checking", &mut Silent, |event| {
         match event {
             Event::Statement(statement) => {
                 emitter.write(output, &statement);
@@ -440,9 +504,33 @@ fn make(options: &Options, opened: &Opened) -> Made {
             lines: verdict.line_times.iter().map(|t| centiseconds(*t)).collect(),
         });
         let failed_before_moving = made.pieces.is_empty() && made.findings.iter().any(|(_, d)| d.is_error());
-        made.field = (!failed_before_moving).then_some(field);
+        if !failed_before_moving {
+            // The programs after it cut on; the part is the job's.
+            let (field, _) = job.simulate_after(first, field, &mut Silent);
+            if let (Some(design), Some(stock)) = (&options.design, stock) {
+                let first_config = job.programs()[0].config();
+                let mut mesh = design.mesh.clone();
+                place_design(
+                    &mut mesh,
+                    first_config,
+                    design.units.unwrap_or(first_config.units),
+                    design.origin,
+                    &stock,
+                );
+                let tolerance = design.tolerance.unwrap_or(default_tolerance(first_config.units));
+                let judged = ger_engine::compare::compare(&field, &mesh.top_surface(&field), tolerance);
+                made.verdicts = judged.verdicts.iter().map(|v| *v as u8).collect();
+                made.design = Some(JsonDesign { file: design.name.clone(), comparison: judged.comparison });
+            }
+            made.field = Some(field);
+        }
     }
     made
+}
+
+/// A program's file name, as the page names the job's programs.
+fn name_of(path: &Path) -> String {
+    path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
 }
 
 /// The default cell: the stock's longer side in `CELLS`.
@@ -461,9 +549,34 @@ struct Body<'a> {
     output: Output<'a>,
     diagnostics: Vec<JsonDiagnostic>,
     part: Option<Part>,
+    fixtures: &'a [JsonFixture],
+    job: &'a [String],
+    design: Option<&'a JsonDesign>,
     path: PathSummary,
     run_time: Option<RunTime>,
     elapsed_ms: u64,
+}
+
+/// A `[[fixtures]]` solid, in machine coordinates, for the page to draw.
+#[derive(Serialize)]
+struct JsonFixture {
+    name: String,
+    /// "box" or "cylinder" (upright).
+    shape: &'static str,
+    /// Its box: a cylinder's centre is the middle of it in X and Y, its radius half its X extent.
+    min: [f64; 3],
+    max: [f64; 3],
+}
+
+impl JsonFixture {
+    fn of(solid: &Solid, name: &str) -> JsonFixture {
+        let (min, max) = solid.bounds();
+        let shape = match solid {
+            Solid::Box { .. } => "box",
+            Solid::Cylinder { .. } => "cylinder",
+        };
+        JsonFixture { name: name.to_string(), shape, min: min.into(), max: max.into() }
+    }
 }
 
 #[derive(Serialize)]
@@ -576,12 +689,21 @@ fn snapshot(version: u64, program: &Opened, made: Made, elapsed_ms: u64) -> Snap
         output: Output { text: &made.output, source_lines: &made.source_lines },
         diagnostics,
         part,
+        fixtures: &made.fixtures,
+        job: &made.job,
+        design: made.design.as_ref(),
         path: PathSummary { pieces: sent.len(), total, decimated: sent.len() < total, min, max },
         run_time: made.run_time,
         elapsed_ms,
     };
     let json = serde_json::to_string(&body).expect("the snapshot serialises: no maps, no non-string keys");
-    Snapshot { version, rest: Bytes::from(json).slice(1..), heights: Bytes::from(heights), path: Bytes::from(path) }
+    Snapshot {
+        version,
+        rest: Bytes::from(json).slice(1..),
+        heights: Bytes::from(heights),
+        path: Bytes::from(path),
+        verdicts: Bytes::from(made.verdicts),
+    }
 }
 
 fn diagnostic(rule: Option<Rule>, d: &Diagnostic, columns: &Columns) -> JsonDiagnostic {

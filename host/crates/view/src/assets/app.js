@@ -331,6 +331,7 @@ const KIND_COLOURS = [
   [0.24, 0.48, 1.0, 1.0], // 1 feed: blue
   [0.13, 0.78, 0.9, 1.0], // 2 arc: cyan-blue
   [0.55, 0.58, 0.64, 0.6], // 3 the stock's outline (drawn by the page, not sent)
+  [0.47, 0.85, 0.35, 1.0], // 4 the fixtures' edges (the snapshot's `fixtures`): green, as in `ger render`
 ];
 /** The selection. The end-to-end test looks for this colour in the canvas. */
 const HIGHLIGHT = [1.0, 0.69, 0.0, 1.0];
@@ -345,11 +346,14 @@ precision highp float;
 precision highp int;
 precision highp sampler2D;
 uniform sampler2D u_heights;
+uniform highp usampler2D u_verdicts;
+uniform bool u_heat;
 uniform ivec2 u_n;
 uniform vec2 u_origin, u_step;
 uniform mat4 u_mvp;
 out vec3 v_normal;
 out float v_z;
+flat out uint v_verdict;
 float h(ivec2 c) { return texelFetch(u_heights, clamp(c, ivec2(0), u_n - 1), 0).r; }
 void main() {
   // No vertex buffer: the vertex's cell comes from its index, its height from
@@ -360,6 +364,7 @@ void main() {
   float dy = (h(c + ivec2(0, 1)) - h(c - ivec2(0, 1))) / (2.0 * u_step.y);
   v_normal = normalize(vec3(-dx, -dy, 1.0));
   v_z = z;
+  v_verdict = u_heat ? texelFetch(u_verdicts, c, 0).r : 0u;
   gl_Position = u_mvp * vec4(u_origin + vec2(c) * u_step, z, 1.0);
 }`;
 
@@ -367,15 +372,19 @@ const MESH_FS = `#version 300 es
 precision highp float;
 uniform float u_top, u_bottom, u_eps;
 uniform vec3 u_light;
+uniform bool u_heat;
 in vec3 v_normal;
 in float v_z;
+flat in uint v_verdict;
 out vec4 colour;
+// The design layer's colours, as ger compare's heat map: unjudged, within, gouged, material left.
+const vec3 VERDICT[4] = vec3[4](vec3(0.88), vec3(0.27, 0.67, 0.31), vec3(0.84, 0.16, 0.14), vec3(0.16, 0.35, 0.82));
 void main() {
   float depth = u_top - v_z;
   float t = clamp(depth / max(u_top - u_bottom, 1e-6), 0.0, 1.0);
   vec3 stock = vec3(0.74, 0.73, 0.70);
   vec3 cut = mix(vec3(0.55, 0.80, 0.78), vec3(0.22, 0.28, 0.68), t);
-  vec3 base = depth > u_eps ? cut : stock;
+  vec3 base = u_heat ? VERDICT[min(v_verdict, 3u)] : depth > u_eps ? cut : stock;
   float light = abs(dot(normalize(v_normal), u_light));
   colour = vec4(base * (0.35 + 0.65 * light), 1.0);
 }`;
@@ -395,7 +404,7 @@ void main() {
 
 const LINES_FS = `#version 300 es
 precision highp float;
-uniform vec4 u_colours[4];
+uniform vec4 u_colours[5];
 uniform float u_dash;
 flat in uint v_kind;
 in float v_along;
@@ -403,7 +412,7 @@ out vec4 colour;
 void main() {
   // Rapids dashed, so they read as rapids without their colour too.
   if (v_kind == 0u && fract(v_along / u_dash) > 0.6) discard;
-  colour = u_colours[min(v_kind, 3u)];
+  colour = u_colours[min(v_kind, 4u)];
 }`;
 
 const THICK_VS = `#version 300 es
@@ -474,10 +483,14 @@ class Viewer {
     this.thick = compile(gl, THICK_VS, THICK_FS);
     this.meshVao = gl.createVertexArray();
     this.heightTexture = gl.createTexture();
+    this.verdictTexture = gl.createTexture();
+    this.verdicts = false; // a design layer to show
+    this.heat = false; // showing it
     this.gridIndices = gl.createBuffer();
     this.grid = null; // { gx, gy, count, origin, step, top, bottom }
     this.path = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
     this.outline = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
+    this.fixtures = this.vertexSet(this.lines, [['a_point', 4], ['a_along', 1]]);
     this.selection = this.vertexSet(this.thick, [['a_p0', 3], ['a_p1', 3], ['a_corner', 1]]);
     this.records = null; // the toolpath, for picking and selection
     this.bounds = null;
@@ -613,6 +626,77 @@ class Viewer {
     this.requestDraw();
   }
 
+  /** `fixtures` as /api/state gives them: each drawn by its edges (a
+   *  cylinder's rims in 48 steps and four upright lines). */
+  setFixtures(fixtures) {
+    const edges = [];
+    for (const f of fixtures || []) {
+      const [x0, y0, z0] = f.min, [x1, y1, z1] = f.max;
+      if (f.shape === 'cylinder') {
+        const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2, r = (x1 - x0) / 2, steps = 48;
+        const at = (k, z) => [cx + r * Math.cos((2 * Math.PI * k) / steps), cy + r * Math.sin((2 * Math.PI * k) / steps), z];
+        for (let k = 0; k < steps; k++) edges.push([at(k, z0), at(k + 1, z0)], [at(k, z1), at(k + 1, z1)]);
+        for (let k = 0; k < steps; k += steps / 4) edges.push([at(k, z0), at(k, z1)]);
+      } else {
+        const corner = (i, z) => [i === 1 || i === 2 ? x1 : x0, i >= 2 ? y1 : y0, z];
+        for (let i = 0; i < 4; i++) {
+          edges.push([corner(i, z0), corner((i + 1) % 4, z0)], [corner(i, z1), corner((i + 1) % 4, z1)]);
+          edges.push([corner(i, z0), corner(i, z1)]);
+        }
+      }
+    }
+    const records = new ArrayBuffer(edges.length * RECORD);
+    edges.forEach(([a, b], i) => {
+      new Float32Array(records, i * RECORD, 6).set([...a, ...b]);
+      new Uint32Array(records, i * RECORD + 24, 2).set([0, 4]);
+    });
+    this.upload(this.fixtures, this.lineVertices(new Float32Array(records), new Uint32Array(records)));
+    const all = fixtures || [];
+    this.fixtureBox = all.length
+      ? {
+          min: [0, 1, 2].map((k) => Math.min(...all.map((f) => f.min[k]))),
+          max: [0, 1, 2].map((k) => Math.max(...all.map((f) => f.max[k]))),
+        }
+      : null;
+    this.requestDraw();
+  }
+
+  /** The design layer: /api/verdicts's bytes over `part`'s cells (or
+   *  null), on the grid the heights are drawn on (of a block, the worst:
+   *  gouged, then material left, then within). */
+  setVerdicts(part, bytes) {
+    const gl = this.gl;
+    this.verdicts = Boolean(part && bytes && this.grid);
+    if (!this.verdicts) {
+      this.requestDraw();
+      return;
+    }
+    const { gx, gy } = this.grid, block = Math.ceil(part.nx / gx) || 1;
+    const RANK = [0, 1, 3, 2];
+    let data = bytes;
+    if (block > 1) {
+      data = new Uint8Array(gx * gy);
+      for (let y = 0; y < part.ny; y++) {
+        const row = Math.floor(y / block) * gx;
+        for (let x = 0; x < part.nx; x++) {
+          const i = row + Math.floor(x / block), v = bytes[y * part.nx + x];
+          if (RANK[v] > RANK[data[i]]) data[i] = v;
+        }
+      }
+    }
+    gl.bindTexture(gl.TEXTURE_2D, this.verdictTexture);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R8UI, gx, gy, 0, gl.RED_INTEGER, gl.UNSIGNED_BYTE, data);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    this.requestDraw();
+  }
+
+  setHeat(on) {
+    this.heat = on;
+    this.requestDraw();
+  }
+
   /** `buffer` as /api/path gives it; `box` the path's {min, max}. */
   setPath(buffer, box) {
     this.records = buffer && buffer.byteLength ? new Float32Array(buffer) : null;
@@ -645,7 +729,7 @@ class Viewer {
 
   /** The box of everything there is to see. */
   box() {
-    const boxes = [this.partBox, this.pathBox].filter((b) => b && b.min && b.max);
+    const boxes = [this.partBox, this.pathBox, this.fixtureBox].filter((b) => b && b.min && b.max);
     if (!this.grid) boxes.splice(0, boxes.length, ...boxes.filter((b) => b !== this.partBox));
     if (!boxes.length) return null;
     const min = [0, 1, 2].map((k) => Math.min(...boxes.map((b) => b.min[k])));
@@ -876,6 +960,11 @@ class Viewer {
       gl.activeTexture(gl.TEXTURE0);
       gl.bindTexture(gl.TEXTURE_2D, this.heightTexture);
       gl.uniform1i(u.u_heights, 0);
+      gl.activeTexture(gl.TEXTURE1);
+      gl.bindTexture(gl.TEXTURE_2D, this.verdictTexture);
+      gl.uniform1i(u.u_verdicts, 1);
+      gl.uniform1i(u.u_heat, this.heat && this.verdicts ? 1 : 0);
+      gl.activeTexture(gl.TEXTURE0);
       // The toolpath runs on the cut surface: push the surface back a little
       // so the lines in the bottom of a cut win the depth test.
       gl.enable(gl.POLYGON_OFFSET_FILL);
@@ -890,7 +979,7 @@ class Viewer {
     gl.uniformMatrix4fv(u.u_mvp, false, mvp);
     gl.uniform4fv(u.u_colours, KIND_COLOURS.flat());
     gl.uniform1f(u.u_dash, Math.max(1e-3, this.size() / 150));
-    for (const set of [this.outline, this.path]) {
+    for (const set of [this.outline, this.fixtures, this.path]) {
       if (!set.count) continue;
       gl.bindVertexArray(set.vao);
       gl.drawArrays(gl.LINES, 0, set.count);
@@ -1079,11 +1168,12 @@ async function loadLatest() {
     if (state.version <= app.shown) return;
     const v = state.version;
     try {
-      const [heights, path] = await Promise.all([
+      const [heights, path, verdicts] = await Promise.all([
         state.part ? getBinary(`/api/heights?version=${v}`) : null,
         state.path && state.path.pieces ? getBinary(`/api/path?version=${v}`) : null,
+        state.part && state.design ? getBinary(`/api/verdicts?version=${v}`) : null,
       ]);
-      show(state, heights && new Float32Array(heights), path);
+      show(state, heights && new Float32Array(heights), path, verdicts && new Uint8Array(verdicts));
       return;
     } catch (error) {
       // 410: a newer snapshot replaced this one while we fetched; take that.
@@ -1092,7 +1182,7 @@ async function loadLatest() {
   }
 }
 
-function show(state, heights, path) {
+function show(state, heights, path, verdicts) {
   const fileChanged = state.file !== app.file;
   app.snapshot = state;
   app.shown = state.version;
@@ -1146,12 +1236,24 @@ function show(state, heights, path) {
   $('version').textContent = `v${state.version}`;
   $('elapsed').textContent = `${state.elapsed_ms} ms`;
   const p = state.path || { pieces: 0, total: 0 };
+  // The design layer's button, with the comparison's figures.
+  const d = state.design;
+  $('heat').hidden = !d;
+  if (d) {
+    const unit = state.part?.units || '';
+    const figure = (what, dev) => (dev.area ? `${what} ${dev.worst.toFixed(3)} ${unit} at worst over ${dev.area.toFixed(1)} ${unit}²` : `nothing ${what}`);
+    $('heat').title = `${d.file}, tolerance ${d.tolerance} ${unit}: ${figure('gouged', d.gouge)}, ${figure('left', d.left)} (D)`;
+  } else if (viewer?.heat) {
+    setHeat(false);
+  }
   $('pieces').textContent = p.decimated
     ? `${p.pieces.toLocaleString()} of ${p.total.toLocaleString()} pieces drawn (decimated)`
     : `${p.pieces.toLocaleString()} pieces`;
 
   if (viewer) {
     viewer.setPart(state.part, heights);
+    viewer.setVerdicts(state.part, verdicts);
+    viewer.setFixtures(state.fixtures);
     viewer.setPath(path, state.path);
     if (app.refit) {
       viewer.fit();
@@ -1312,6 +1414,14 @@ function setTop2d(on) {
 }
 
 $('top2d').addEventListener('click', () => setTop2d(!viewer?.top2d));
+
+/** The design layer (`ger view --design`): the part coloured as ger compare's heat map. */
+function setHeat(on) {
+  if (!viewer || (on && !app.snapshot?.design)) return;
+  viewer.setHeat(on);
+  $('heat').setAttribute('aria-pressed', String(on));
+}
+$('heat').addEventListener('click', () => setHeat(!viewer?.heat));
 $('fit').addEventListener('click', () => viewer?.fit());
 const toggleHelp = (show = $('help').hidden) => {
   $('help').hidden = !show;
@@ -1330,6 +1440,7 @@ const KEYS = {
   a: () => viewer?.zoom(1 / 1.15),
   z: () => viewer?.zoom(1.15),
   t: () => setTop2d(!viewer?.top2d),
+  d: () => setHeat(!viewer?.heat),
   f: () => viewer?.fit(),
   '?': () => toggleHelp(),
   arrowup: () => stepOutput(-1),
