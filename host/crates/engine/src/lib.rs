@@ -41,7 +41,7 @@ pub use machine::{ConfigError, Purpose, Settings};
 pub use program::{carve, place_design, stock_of, Culprit, Extent, Job, Program, Refused, Resolution};
 pub use progress::{Progress, Silent};
 pub use report::Report;
-pub use source::{ReadError, Source};
+pub use source::{canonical_path, ReadError, Source};
 
 // What a caller needs to use the answers, from the crates that make them.
 pub use ger_check as check;
