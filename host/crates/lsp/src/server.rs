@@ -385,7 +385,7 @@ impl Shared {
             let range = at.map(|i| document.range(line, tokens[i].0.span.col, tokens[i].0.span.len));
             (tokens, at, range)
         };
-        let line = position.line + 1;
+        let line = position.line.saturating_add(1);
         let mut sections = Vec::new();
         match at.map(|i| (&tokens[i].0.kind, tokens[i].1.as_str())) {
             Some((TokenKind::Word { letter: letter @ ('G' | 'M'), value }, _)) => {
@@ -513,7 +513,7 @@ impl Shared {
         let analysis = self.analysis(uri)?;
         let documents = lock(&self.documents);
         let document = &documents.get(uri)?.document;
-        let moves = analysis.moves_between(p.range.start.line + 1, p.range.end.line + 1);
+        let moves = analysis.moves_between(p.range.start.line.saturating_add(1), p.range.end.line.saturating_add(1));
         let hints = moves.iter().filter_map(|&(line, at)| {
             let state = analysis.state_at(line)?;
             if state.distance != Distance::Incremental && !state.polar {

@@ -135,7 +135,7 @@ impl Document {
     pub fn cursor(&self, position: Position) -> (u32, u32, Cow<'_, str>) {
         let line_text = self.line(position.line as usize);
         let col = byte_of_utf16(&line_text, position.character) as u32 + 1;
-        (position.line + 1, col, line_text)
+        (position.line.saturating_add(1), col, line_text)
     }
 
     /// The character index of an editor's position: a position past the
