@@ -33,7 +33,7 @@ use crate::analysis::{analyse, Analysis};
 use crate::codes::{self, codes};
 use crate::outline::{covers, line_tokens, Block};
 use crate::text::{Document, LineText};
-use crate::watch::{self, Follower, Watched};
+use crate::watch::{self, Folders, Follower, Watched};
 use crate::{actions, hover, Options, WizardInfo};
 use ger_engine::core::diag::Span;
 use ger_engine::core::lex::TokenKind;
@@ -90,7 +90,9 @@ pub fn serve(connection: Connection, options: Options) -> Result<(), Error> {
     });
     connection.initialize_finish(id, initialize)?;
 
+    let (folders, events) = Folders::new().unzip();
     let shared = Arc::new(Shared {
+        folders: Mutex::new(folders),
         options,
         documents: Mutex::new(HashMap::new()),
         wake: Condvar::new(),
@@ -108,18 +110,24 @@ pub fn serve(connection: Connection, options: Options) -> Result<(), Error> {
             .spawn(move || shared.work())
             .map_err(|cause| Error::Io { what: "start the analysis thread", cause })?
     };
-    let watcher = {
-        let shared = shared.clone();
-        std::thread::Builder::new()
-            .name("ger lsp watcher".to_string())
-            .spawn(move || watch::follow(&*shared))
-            .map_err(|cause| Error::Io { what: "start the watching thread", cause })?
+    let watcher = match events {
+        Some(events) => {
+            let shared = shared.clone();
+            let thread = std::thread::Builder::new()
+                .name("ger lsp watcher".to_string())
+                .spawn(move || watch::follow(&*shared, &events))
+                .map_err(|cause| Error::Io { what: "start the watching thread", cause })?;
+            Some(thread)
+        }
+        None => None,
     };
     let served = serve_messages(&connection, &shared);
     shared.stopping.store(true, Ordering::SeqCst);
     shared.wake.notify_all();
     let _ = worker.join();
-    let _ = watcher.join();
+    if let Some(watcher) = watcher {
+        let _ = watcher.join();
+    }
     served
 }
 
@@ -165,6 +173,8 @@ struct Shared {
     sender: Sender<Message>,
     /// Whether the editor asked for inlay hints.
     inlay_hints: bool,
+    /// The folders watched (none without a watcher).
+    folders: Mutex<Option<Folders>>,
     generations: AtomicU64,
     stopping: AtomicBool,
 }
@@ -248,6 +258,8 @@ impl Shared {
         while let Some(job) = self.next_job() {
             let stale =
                 || self.stopping.load(Ordering::Relaxed) || job.newest.load(Ordering::Relaxed) != job.generation;
+            // Watched before they are read: a change after the read is seen.
+            self.watch(&self.watched_of(&job.uri));
             // Made here, not under the documents' lock: the text is the job's own.
             let text: Arc<str> = Arc::from(String::from(&job.text));
             let Some(analysis) = analyse(&self.options, &job.uri, &job.path, text, &stale) else {
@@ -567,6 +579,10 @@ impl Follower for Shared {
     fn watched(&self) -> Vec<Watched> {
         let open: Vec<Url> = lock(&self.documents).keys().cloned().collect();
         open.iter().map(|uri| self.watched_of(uri)).collect()
+    }
+
+    fn watch(&self, program: &Watched) -> Vec<PathBuf> {
+        lock(&self.folders).as_mut().map(|folders| folders.add(program)).unwrap_or_default()
     }
 
     /// A file a program's analysis reads changed: the program is analysed

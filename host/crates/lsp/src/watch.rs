@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
 
-use notify::{Event, EventKind, RecursiveMode, Watcher};
+use notify::{Event, EventKind, RecommendedWatcher, RecursiveMode, Watcher};
 
 use ger_engine::canonical_path;
 
@@ -37,48 +37,71 @@ impl Watched {
     }
 }
 
-/// What the watcher asks of the server.
+/// The folders watched, shared by the worker, which adds a program's
+/// before it reads them (so that no change after the read goes unseen),
+/// and the watching thread, which tries again those that were missing.
+pub struct Folders {
+    watcher: RecommendedWatcher,
+    watched: HashSet<PathBuf>,
+    missing: HashSet<PathBuf>,
+}
+
+/// Events from the watcher, for [`follow`].
+pub type Events = mpsc::Receiver<notify::Result<Event>>;
+
+impl Folders {
+    /// A watcher and its events; `None` on a platform with none: changes
+    /// then show at the program's next edit.
+    pub fn new() -> Option<(Folders, Events)> {
+        let (tx, rx) = mpsc::channel();
+        let watcher = notify::recommended_watcher(tx).ok()?;
+        Some((Folders { watcher, watched: HashSet::new(), missing: HashSet::new() }, rx))
+    }
+
+    /// Watches the folders `program` reads; the files in those of them that
+    /// were missing before and are there now (a wizards folder made after
+    /// the program was opened), which are new to its analysis.
+    pub fn add(&mut self, program: &Watched) -> Vec<PathBuf> {
+        let mut appeared = Vec::new();
+        let folders = [program.config.parent(), Some(program.folder.as_path()), Some(program.wizards.as_path())];
+        for folder in folders.into_iter().flatten() {
+            if self.watched.contains(folder) {
+                continue;
+            }
+            if self.watcher.watch(folder, RecursiveMode::NonRecursive).is_err() {
+                self.missing.insert(folder.to_path_buf());
+                continue;
+            }
+            self.watched.insert(folder.to_path_buf());
+            if self.missing.remove(folder) {
+                let entries = std::fs::read_dir(folder).into_iter().flatten().flatten();
+                appeared.extend(entries.map(|entry| canonical_path(&entry.path())));
+            }
+        }
+        appeared
+    }
+}
+
+/// What the watching thread asks of the server.
 pub trait Follower {
     /// What each open program depends on now.
     fn watched(&self) -> Vec<Watched>;
+    /// Watches what `program` reads (see [`Folders::add`]).
+    fn watch(&self, program: &Watched) -> Vec<PathBuf>;
     /// These files changed (canonical paths).
     fn files_changed(&self, paths: &[PathBuf]);
     fn stopping(&self) -> bool;
 }
 
-/// Follows `follower`'s files on the calling thread until it stops. A
-/// platform with no watcher leaves the server without this: changes then
-/// show at the program's next edit, as before.
-pub fn follow(follower: &dyn Follower) {
-    let (tx, rx) = mpsc::channel();
-    let Ok(mut watcher) = notify::recommended_watcher(tx) else { return };
-    let (mut folders, mut missing) = (HashSet::new(), HashSet::new());
+/// Follows `follower`'s files on the calling thread until it stops.
+pub fn follow(follower: &dyn Follower, events: &Events) {
     while !follower.stopping() {
         let watched = follower.watched();
-        // A folder that was missing and is there now (a wizards folder made
-        // after the program was opened): what is in it is new to the analyses.
-        let mut appeared = Vec::new();
-        for w in &watched {
-            for folder in [w.config.parent(), Some(w.folder.as_path()), Some(w.wizards.as_path())].into_iter().flatten()
-            {
-                if folders.contains(folder) {
-                    continue;
-                }
-                if watcher.watch(folder, RecursiveMode::NonRecursive).is_err() {
-                    missing.insert(folder.to_path_buf());
-                    continue;
-                }
-                folders.insert(folder.to_path_buf());
-                if missing.remove(folder) {
-                    let entries = std::fs::read_dir(folder).into_iter().flatten().flatten();
-                    appeared.extend(entries.map(|entry| canonical_path(&entry.path())));
-                }
-            }
-        }
+        let appeared: Vec<PathBuf> = watched.iter().flat_map(|w| follower.watch(w)).collect();
         if !appeared.is_empty() {
             follower.files_changed(&appeared);
         }
-        let first = match rx.recv_timeout(Duration::from_millis(250)) {
+        let first = match events.recv_timeout(Duration::from_millis(250)) {
             Ok(event) => event,
             Err(RecvTimeoutError::Timeout) => continue,
             Err(RecvTimeoutError::Disconnected) => return,
@@ -86,7 +109,7 @@ pub fn follow(follower: &dyn Follower) {
         // Saves come in bursts: let them settle, then react once.
         std::thread::sleep(Duration::from_millis(50));
         let mut paths = Vec::new();
-        for event in std::iter::once(first).chain(rx.try_iter()) {
+        for event in std::iter::once(first).chain(events.try_iter()) {
             let Ok(Event { kind, paths: named, .. }) = event else { continue };
             if !matches!(kind, EventKind::Access(_)) {
                 paths.extend(named.iter().map(|p| canonical_path(p)));
