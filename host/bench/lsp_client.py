@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Drives `ger lsp --stdio` as an editor would, for host/bench/lsp.sh: opens
-PROGRAM, then edits one line of it (an incremental didChange) and times how
-long until the diagnostics of the edited text are published, while asking
-for a hover every 20 ms and timing each answer.
+PROGRAM, then edits it as someone typing would: EDITS incremental
+didChanges of one line, one every 300 ms, and times how long after the
+last one the diagnostics of the edited text are published, while asking
+for a hover every 20 ms from the first edit on and timing each answer.
 
-    lsp_client.py GER PROGRAM
+    lsp_client.py GER PROGRAM [EDITS]    (default 10)
 """
 import json
 import os
@@ -90,12 +91,9 @@ def main():
     at, message = server.wait(published(1))
     print(f"didOpen -> diagnostics ({len(message['params']['diagnostics'])}): {at - start:.2f} s")
 
-    # The edit: a line in the middle gets a comment. Hovers go on until its diagnostics come.
-    middle = lines // 2
-    edit = {"range": {"start": {"line": middle, "character": 0}, "end": {"line": middle, "character": 0}},
-            "text": "(edited) "}
-    start = time.perf_counter()
-    server.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2}, "contentChanges": [edit]})
+    # The edits: lines through the middle of the program each get a comment.
+    # Hovers go on from the first until the last one's diagnostics come.
+    edits = int(sys.argv[3]) if len(sys.argv) > 3 else 10
     latencies = []
     done = threading.Event()
 
@@ -111,14 +109,26 @@ def main():
             time.sleep(0.02)
 
     asker = threading.Thread(target=hovers)
-    asker.start()
-    at, message = server.wait(published(2))
+    for n in range(edits):
+        line = lines // 2 + n * 1009
+        edit = {"range": {"start": {"line": line, "character": 0}, "end": {"line": line, "character": 0}},
+                "text": "(edited) "}
+        start = time.perf_counter()
+        server.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2 + n},
+                                                 "contentChanges": [edit]})
+        if n == 0:
+            asker.start()
+        if n + 1 < edits:
+            time.sleep(0.3)
+    at, message = server.wait(published(1 + edits))
     done.set()
     asker.join()
-    print(f"didChange -> diagnostics ({len(message['params']['diagnostics'])}): {at - start:.2f} s")
+    print(f"{edits} didChanges 300 ms apart, the last -> its diagnostics ({len(message['params']['diagnostics'])}): "
+          f"{at - start:.2f} s")
     latencies.sort()
-    print(f"hover while analysing: {len(latencies)} hovers, median {statistics.median(latencies) * 1000:.1f} ms, "
-          f"max {latencies[-1] * 1000:.1f} ms")
+    print(f"hover while editing and analysing: {len(latencies)} hovers, median "
+          f"{statistics.median(latencies) * 1000:.1f} ms, 99th percentile "
+          f"{latencies[int(len(latencies) * 0.99)] * 1000:.1f} ms, max {latencies[-1] * 1000:.1f} ms")
     asked = server.request("shutdown", None)
     server.wait(lambda m: m.get("id") == asked)
     server.notify("exit", None)

@@ -72,9 +72,15 @@ fn read_message(reader: &mut impl BufRead) -> Option<Value> {
 
 impl Server {
     fn start(dir: &Path) -> Server {
+        Server::start_with(dir, &[])
+    }
+
+    /// `ger lsp --stdio` with more arguments.
+    fn start_with(dir: &Path, args: &[&str]) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
             .current_dir(dir)
             .args(["lsp", "--stdio"])
+            .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
@@ -123,6 +129,19 @@ impl Server {
                 Err(RecvTimeoutError::Timeout) => panic!("no such message within 60 s"),
                 Err(RecvTimeoutError::Disconnected) => panic!("ger lsp ended"),
             }
+        }
+    }
+
+    /// The hover at `(line, character)` once it says `wanted`, within 60 s.
+    fn hover_until(&mut self, uri: &str, (line, character): (u32, u32), wanted: &str) -> String {
+        let deadline = Instant::now() + Duration::from_secs(60);
+        loop {
+            let text = hover_text(&self.request("textDocument/hover", at(uri, line, character)));
+            if text.contains(wanted) {
+                return text;
+            }
+            assert!(Instant::now() < deadline, "no hover saying {wanted:?} within 60 s: {text}");
+            std::thread::sleep(Duration::from_millis(100));
         }
     }
 
@@ -214,9 +233,15 @@ fn an_editor_session_over_stdio() {
     // The call: O100 moves 5 on in G91, so X25.
     let text = hover_text(&server.request("textDocument/hover", at(&uri, 6, 8)));
     assert!(text.contains("After line 7: **X25.000 Y5.000 Z-1.000** mm"), "{text}");
-    // An axis word: its machine coordinate after the line.
+    assert!(text.contains("The planned run reaches line 7 at"), "{text}");
+    // A line of O100 runs when it is called: its time is the call's, not its own.
+    let text = hover_text(&server.request("textDocument/hover", at(&uri, 9, 9)));
+    assert!(text.contains("After line 10: **X25.000 Y5.000 Z-1.000** mm"), "{text}");
+    assert!(!text.contains("planned run"), "{text}");
+    // An axis word: its value, and its machine coordinate after the line.
     let text = hover_text(&server.request("textDocument/hover", at(&uri, 3, 4)));
-    assert!(text.contains("**X** after this line: 10.000 mm"), "{text}");
+    assert!(text.contains("**X10**: 10.000 mm"), "{text}");
+    assert!(text.contains("Machine **X10.000** mm after this line (absolute, G90)"), "{text}");
 
     // M98 P100 leads to O100, at line 9 (0-based 8).
     let definition = server.request("textDocument/definition", at(&uri, 6, 5));
@@ -255,6 +280,205 @@ fn an_editor_session_over_stdio() {
         std::thread::sleep(Duration::from_millis(20));
     };
     assert!(status.success(), "{status}");
+}
+
+/// Starts `ger lsp` in a temporary folder with `config` as its ger.toml and
+/// `program` as part.nc, opened (version 1); the folder goes with the server.
+fn open(config: &str, program: &str) -> (tempfile::TempDir, Server, String) {
+    open_with(config, program, &[], Value::Null).0
+}
+
+/// As [`open`], with more arguments for `ger lsp` and the editor's
+/// initializationOptions; also what the server answered to `initialize`.
+fn open_with(
+    config: &str,
+    program: &str,
+    args: &[&str],
+    options: Value,
+) -> ((tempfile::TempDir, Server, String), Value) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("ger.toml"), config).unwrap();
+    let file = dir.path().join("part.nc");
+    std::fs::write(&file, program).unwrap();
+    let uri = format!("file://{}", file.display());
+    let mut server = Server::start_with(dir.path(), args);
+    let initialized = server.request(
+        "initialize",
+        json!({"processId": null, "rootUri": null, "capabilities": {}, "initializationOptions": options}),
+    );
+    server.notify("initialized", json!({}));
+    server.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri, "languageId": "gcode", "version": 1, "text": program}}),
+    );
+    ((dir, server, uri), initialized)
+}
+
+/// An inch program on a mm machine whose G54 is at machine X100.
+#[test]
+fn hover_gives_words_in_machine_units_and_lines_their_place_and_time() {
+    let config = "units = \"mm\"\n[offsets]\nG54 = [100.0, 0.0, 0.0]\n\
+                  [[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6.0\n";
+    let program = "G20 G90 G54\nG01 X1. F100\nG91 X-1.\nM30\n";
+    let (_dir, mut server, uri) = open(config, program);
+    server.diagnostics(1);
+
+    // X1. in inches is 25.4 mm, from program zero at X100: machine X125.4.
+    let text = hover_text(&server.request("textDocument/hover", at(&uri, 1, 5)));
+    assert!(text.contains("**X1.** is **25.400 mm** on this machine (the program is in inches here, G20)"), "{text}");
+    assert!(
+        text.contains("Machine **X125.400** mm after this line (absolute, G90, from program zero at machine X100.000 Y0.000 Z0.000)"),
+        "{text}"
+    );
+    // G91 X-1.: 25.4 mm back, to machine X100.
+    let text = hover_text(&server.request("textDocument/hover", at(&uri, 2, 5)));
+    assert!(text.contains("**X-1.** is **-25.400 mm** on this machine"), "{text}");
+    assert!(text.contains("Machine **X100.000** mm after this line (relative, G91)"), "{text}");
+    // F is not a length: no value in mm (the line's place is still said).
+    let text = hover_text(&server.request("textDocument/hover", at(&uri, 1, 9)));
+    assert!(!text.contains("**F100**"), "{text}");
+
+    // The planned time, on grbl-default (X: 500 mm/s²). F100 in/min is
+    // 42.333 mm/s; each move starts and ends at rest (the second turns back),
+    // so takes d/v + v/a: 125.4 mm in 2.9622 + 0.0847 = 3.0469 s, 25.4 mm
+    // in 0.6 + 0.0847 = 0.6847 s. Line 3 is reached at 3.05 s of 3.73 s.
+    let text = hover_text(&server.request("textDocument/hover", at(&uri, 2, 8)));
+    assert!(text.contains("After line 3: **X100.000 Y0.000 Z0.000** mm, in machine coordinates"), "{text}");
+    assert!(text.contains("The planned run reaches line 3 at **3.0 s** of 3.7 s, on grbl-default"), "{text}");
+    // On the line's first word, a code: the same after the code's meaning.
+    let text = hover_text(&server.request("textDocument/hover", at(&uri, 1, 0)));
+    assert!(text.contains("After line 2: **X125.400 Y0.000 Z0.000** mm"), "{text}");
+    assert!(text.contains("reaches line 2 at **0.0 s** of 3.7 s"), "{text}");
+}
+
+/// The published diagnostics' messages, for a failing assertion to show.
+fn messages(diagnostics: &[Value]) -> Vec<&str> {
+    diagnostics.iter().map(|d| d["message"].as_str().unwrap_or("")).collect()
+}
+
+#[test]
+fn a_change_to_ger_toml_checks_the_open_programs_again() {
+    // M02 is refused in the strict dialect and taken in the lenient one.
+    let program = "G21\nG00 X1\nM02\n";
+    let (dir, mut server, _uri) = open(CONFIG, program);
+    let m02 = |diagnostics: &[Value]| diagnostics.iter().any(|d| d["range"] == range((2, 0), (2, 3)));
+    let before = server.diagnostics(1);
+    assert!(m02(&before), "{:?}", messages(&before));
+    // No edit: only the file on disk changes, as another editor would save it.
+    std::fs::write(dir.path().join("ger.toml"), format!("dialect = \"lenient\"\n{CONFIG}")).unwrap();
+    let after = server.diagnostics(1);
+    assert!(!m02(&after), "{:?}", messages(&after));
+}
+
+#[test]
+fn inlay_hints_show_where_relative_and_polar_moves_go_when_asked_for() {
+    // From X10 Y10: G91 X5 to X15 Y10, Y-3 to X15 Y7; polar (G16) X10 Y90:
+    // 10 mm at 90 degrees, to X15 Y17. The absolute moves get no hint.
+    let program = "G21 G90\nG00 X10 Y10\nG91 G01 X5 F100\nY-3\nG16\nX10 Y90\nG15 G90\nG01 X0 Y0\nM30\n";
+    let whole = json!({"start": {"line": 0, "character": 0}, "end": {"line": 9, "character": 0}});
+    let ((_dir, mut server, uri), initialized) = open_with(CONFIG, program, &[], json!({"inlayHints": true}));
+    assert_eq!(initialized["capabilities"]["inlayHintProvider"], true, "{initialized}");
+    server.diagnostics(1);
+    let hints = server.request("textDocument/inlayHint", json!({"textDocument": {"uri": uri}, "range": whole}));
+    let hints: Vec<(u64, u64, &str)> = hints
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| {
+            (
+                h["position"]["line"].as_u64().unwrap(),
+                h["position"]["character"].as_u64().unwrap(),
+                h["label"].as_str().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        hints,
+        [
+            (2, 15, "→ X15.000 Y10.000 Z0.000 mm"),
+            (3, 3, "→ X15.000 Y7.000 Z0.000 mm"),
+            (5, 7, "→ X15.000 Y17.000 Z0.000 mm")
+        ]
+    );
+    // Only the lines asked for.
+    let line_four = json!({"start": {"line": 3, "character": 0}, "end": {"line": 3, "character": 4}});
+    let hints = server.request("textDocument/inlayHint", json!({"textDocument": {"uri": uri}, "range": line_four}));
+    assert_eq!(hints.as_array().unwrap().len(), 1, "{hints}");
+
+    // Off unless asked for: no capability, and nothing if asked all the same.
+    let ((_dir, mut server, uri), initialized) = open_with(CONFIG, program, &[], Value::Null);
+    assert!(initialized["capabilities"].get("inlayHintProvider").is_none(), "{initialized}");
+    server.diagnostics(1);
+    let hints = server.request("textDocument/inlayHint", json!({"textDocument": {"uri": uri}, "range": whole}));
+    assert_eq!(hints, json!([]));
+}
+
+fn repo(path: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
+}
+
+/// The shipped wizards the example calls (Pocket, BoltCircle), built if need
+/// be by `ger run`, as the other tests that run the example have them.
+fn built_wizards() {
+    let run = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["run", "--wizards"])
+        .arg(repo("wizards"))
+        .arg(repo("host/examples/pocket.ngc"))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+}
+
+/// What BoltCircle's `describe()` says, as its source writes it.
+const BOLT_CIRCLE_SUMMARY: &str = "drills holes evenly spaced on a circle around the current position";
+const BOLT_CIRCLE_USAGE: &str = "BoltCircle COUNT DIAMETER DEPTH [ANGLE] [PECK] [BREAK]";
+
+#[test]
+fn a_shipped_wizard_is_described_completed_followed_and_run() {
+    built_wizards();
+    // Over X50 Y40 at Z5, BoltCircle drills 4 holes on a 20 mm circle, 1 deep,
+    // and ends over the centre at the Z it started from (its source says so).
+    let program = "G21 G90\nM06 T1\nM03 S10000\nG00 X50 Y40 Z5\nF100\nBoltCircle 4 20 1\nM30\n";
+    let wizards = repo("wizards").display().to_string();
+    let ((_dir, mut server, uri), _) = open_with(CONFIG, program, &["--no-build", "--wizards", &wizards], Value::Null);
+    let diagnostics = server.diagnostics(1);
+    assert!(!diagnostics.iter().any(|d| d["range"]["start"]["line"] == 5), "{:?}", messages(&diagnostics));
+
+    // The folder's wizards are described once its first analysis is published.
+    let text = server.hover_until(&uri, (5, 3), BOLT_CIRCLE_SUMMARY);
+    assert!(text.contains("**BoltCircle** (wizard)"), "{text}");
+    assert!(text.contains(BOLT_CIRCLE_SUMMARY), "{text}");
+    assert!(text.contains(&format!("`{BOLT_CIRCLE_USAGE}`")), "{text}");
+    assert!(text.contains("- `DIAMETER`: diameter of the circle through the holes' centres"), "{text}");
+    assert!(text.contains("- `ANGLE` (optional)"), "{text}");
+    assert!(text.contains("After line 6: **X50.000 Y40.000 Z5.000** mm"), "{text}");
+
+    let items = server.request("textDocument/completion", at(&uri, 6, 0));
+    let item = items.as_array().unwrap().iter().find(|i| i["label"] == "BoltCircle").expect("BoltCircle offered");
+    assert_eq!(item["detail"], BOLT_CIRCLE_USAGE);
+
+    let definition = server.request("textDocument/definition", at(&uri, 5, 3));
+    let source = repo("wizards/boltcircle/src/lib.rs").canonicalize().unwrap();
+    let found = definition["uri"].as_str().unwrap().strip_prefix("file://").unwrap().to_string();
+    assert_eq!(Path::new(&found).canonicalize().unwrap(), source);
+}
+
+#[test]
+fn a_wizard_added_to_the_folder_is_used_without_an_edit() {
+    built_wizards();
+    let program = "G21 G90\nM06 T1\nM03 S10000\nG00 X50 Y40 Z5\nF100\nBc 4 20 1\nM30\n";
+    let ((dir, mut server, uri), _) = open_with(CONFIG, program, &["--wizards", "wizards"], Value::Null);
+    let wizards = dir.path().join("wizards");
+    std::fs::create_dir(&wizards).unwrap();
+    let call = |diagnostics: &[Value]| diagnostics.iter().any(|d| d["range"]["start"]["line"] == 5);
+    let before = server.diagnostics(1);
+    assert!(call(&before), "{:?}", messages(&before));
+    // BoltCircle, under the name the program calls.
+    std::fs::copy(repo("wizards/boltcircle.wasm"), wizards.join("bc.wasm")).unwrap();
+    let after = server.diagnostics(1);
+    assert!(!call(&after), "{:?}", messages(&after));
+    // Described again: its hover says what it does.
+    server.hover_until(&uri, (5, 1), BOLT_CIRCLE_SUMMARY);
 }
 
 /// What the Neovim test's script asks Neovim, through its own LSP client:
@@ -347,4 +571,244 @@ fn the_vscode_extension_packages() {
     {
         assert!(bytes.windows(name.len()).any(|w| w == name.as_bytes()), "{name} is not in the package");
     }
+}
+
+/// The program the README's picture of Neovim shows: inches on a mm machine
+/// whose G54 is at X100, and a feed on a rapid, which is refused.
+const PICTURED: &str = "\
+(a bracket, in inches)
+G20 G90 G54
+M06 T1
+M03 S10000
+G00 X0 Y0 Z0.1 F50
+G01 Z-0.1 F20
+G01 X2. F30
+G91 Y1.
+G90 X0
+G00 Z0.5
+M30
+";
+
+/// The README's setup for Neovim 0.7: the Lua block that starts with `first`.
+fn readme_lua(first: &str) -> String {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let start = readme.find(&format!("```lua\n{first}")).expect("the README's Neovim 0.7 setup") + "```lua\n".len();
+    let end = readme[start..].find("```").unwrap() + start;
+    readme[start..end].to_string()
+}
+
+/// What Neovim is told in the picture's terminal after the README's setup
+/// (with `ger` the one built): the hover on `X2.` (line 7) once the
+/// diagnostics are in, then a file written to say the screen is ready.
+const PICTURE_INIT: &str = r#"
+vim.o.number = true
+vim.o.signcolumn = "yes"
+vim.o.laststatus = 0
+vim.o.ruler = false
+vim.o.showmode = false
+vim.cmd("highlight NormalFloat ctermbg=236 ctermfg=252")
+vim.cmd("highlight FloatBorder ctermbg=236 ctermfg=244")
+vim.cmd("highlight DiagnosticVirtualTextError ctermfg=203")
+vim.cmd("highlight LineNr ctermfg=242")
+vim.cmd("highlight SignColumn ctermbg=NONE")
+vim.lsp.handlers["textDocument/hover"] = vim.lsp.with(vim.lsp.handlers.hover, { border = "rounded", max_width = 84 })
+local function wait_then(condition, action, tries)
+  if condition() or tries == 0 then return action() end
+  vim.defer_fn(function() wait_then(condition, action, tries - 1) end, 100)
+end
+vim.api.nvim_create_autocmd("VimEnter", { callback = function()
+  wait_then(function() return #vim.diagnostic.get(0) > 0 end, function()
+    vim.api.nvim_win_set_cursor(0, { 7, 5 })
+    vim.lsp.buf.hover()
+    vim.defer_fn(function() vim.fn.writefile({ "ready" }, os.getenv("GER_READY")) end, 1500)
+  end, 600)
+end })
+"#;
+
+/// The 256 colours of an xterm, as CSS.
+fn xterm_colour(n: u8) -> String {
+    const BASIC: [&str; 16] = [
+        "#1d1f21", "#cc6666", "#b5bd68", "#f0c674", "#81a2be", "#b294bb", "#8abeb7", "#c5c8c6", "#666666", "#d54e53",
+        "#b9ca4a", "#e7c547", "#7aa6da", "#c397d8", "#70c0b1", "#eaeaea",
+    ];
+    match n {
+        0..=15 => BASIC[n as usize].to_string(),
+        16..=231 => {
+            let level = |v: u8| if v == 0 { 0 } else { 55 + 40 * v as u32 };
+            let n = n - 16;
+            format!("rgb({},{},{})", level(n / 36), level(n / 6 % 6), level(n % 6))
+        }
+        232..=255 => {
+            let grey = 8 + 10 * (n as u32 - 232);
+            format!("rgb({grey},{grey},{grey})")
+        }
+    }
+}
+
+/// A terminal's screen as tmux's `capture-pane -e` gives it (text and SGR
+/// escapes) as an HTML page of one `pre`, each run of cells in its colours.
+fn screen_html(screen: &str) -> String {
+    let (background, foreground) = ("#1d1f21".to_string(), "#c5c8c6".to_string());
+    let mut html = format!(
+        "<!doctype html><meta charset=utf-8><style>body{{margin:0;background:{background}}}\
+         pre{{margin:0;padding:8px;font:14px/17px 'DejaVu Sans Mono',monospace;color:{foreground}}}</style><pre>"
+    );
+    let (mut fg, mut bg, mut bold, mut reverse): (Option<String>, Option<String>, bool, bool) =
+        (None, None, false, false);
+    let mut open = false;
+    let mut chars = screen.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c == '\x1b' && chars.peek() == Some(&'[') {
+            chars.next();
+            let mut code = String::new();
+            for c in chars.by_ref() {
+                if c.is_ascii_alphabetic() {
+                    break;
+                }
+                code.push(c);
+            }
+            let numbers: Vec<u32> = code.split(';').map(|n| n.parse().unwrap_or(0)).collect();
+            let mut i = 0;
+            while i < numbers.len() {
+                match numbers[i] {
+                    0 => (fg, bg, bold, reverse) = (None, None, false, false),
+                    1 => bold = true,
+                    7 => reverse = true,
+                    22 => bold = false,
+                    27 => reverse = false,
+                    n @ 30..=37 => fg = Some(xterm_colour(n as u8 - 30)),
+                    n @ 90..=97 => fg = Some(xterm_colour(n as u8 - 90 + 8)),
+                    n @ 40..=47 => bg = Some(xterm_colour(n as u8 - 40)),
+                    n @ 100..=107 => bg = Some(xterm_colour(n as u8 - 100 + 8)),
+                    39 => fg = None,
+                    49 => bg = None,
+                    n @ (38 | 48) if numbers.get(i + 1) == Some(&5) => {
+                        let colour = Some(xterm_colour(numbers.get(i + 2).copied().unwrap_or(0) as u8));
+                        if n == 38 {
+                            fg = colour
+                        } else {
+                            bg = colour
+                        }
+                        i += 2;
+                    }
+                    n @ (38 | 48) if numbers.get(i + 1) == Some(&2) => {
+                        let rgb = |k: usize| numbers.get(i + k).copied().unwrap_or(0);
+                        let colour = Some(format!("rgb({},{},{})", rgb(2), rgb(3), rgb(4)));
+                        if n == 38 {
+                            fg = colour
+                        } else {
+                            bg = colour
+                        }
+                        i += 4;
+                    }
+                    _ => {}
+                }
+                i += 1;
+            }
+            if open {
+                html.push_str("</span>");
+            }
+            let (mut f, mut b) = (fg.clone().unwrap_or(foreground.clone()), bg.clone().unwrap_or(background.clone()));
+            if reverse {
+                std::mem::swap(&mut f, &mut b);
+            }
+            let weight = if bold { "font-weight:bold;" } else { "" };
+            html.push_str(&format!("<span style=\"color:{f};background:{b};{weight}\">"));
+            open = true;
+            continue;
+        }
+        match c {
+            '<' => html.push_str("&lt;"),
+            '>' => html.push_str("&gt;"),
+            '&' => html.push_str("&amp;"),
+            c => html.push(c),
+        }
+    }
+    if open {
+        html.push_str("</span>");
+    }
+    html.push_str("</pre>");
+    html
+}
+
+/// Neovim in a terminal (tmux), as a user sees it: the diagnostic at the
+/// rapid's F and the hover on `X2.` (2 in = 50.8 mm, from G54's X100: X150.8).
+/// The screen is drawn as a picture by Chromium: `UPDATE_SCREENSHOT=1`
+/// writes it to `host/docs/lsp-neovim.png`, the one the README shows.
+#[test]
+fn neovim_in_a_terminal_shows_the_diagnostic_and_the_hover() {
+    let chromium =
+        std::env::var_os("GER_CHROMIUM").map_or_else(|| std::path::PathBuf::from("/usr/bin/chromium"), Into::into);
+    let (Ok(_), Ok(tmux), true) = (which("nvim"), which("tmux"), chromium.is_file()) else {
+        return support::peer_missing(
+            "Neovim, tmux or Chromium is missing: the picture of ger in Neovim was NOT taken",
+        );
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let config = "units = \"mm\"\n[offsets]\nG54 = [100.0, 0.0, 0.0]\n[[tools]]\nnumber = 1\nkind = \"endmill\"\ndiameter = 6.0\n";
+    std::fs::write(dir.path().join("ger.toml"), config).unwrap();
+    std::fs::write(dir.path().join("bracket.nc"), PICTURED).unwrap();
+    let setup = readme_lua("-- Neovim 0.7 (tested)");
+    let ger = format!("{:?}, \"lsp\"", env!("CARGO_BIN_EXE_ger"));
+    assert!(setup.contains("\"ger\", \"lsp\""), "{setup}");
+    std::fs::write(dir.path().join("init.lua"), setup.replace("\"ger\", \"lsp\"", &ger) + PICTURE_INIT).unwrap();
+    let ready = dir.path().join("ready");
+    let session = format!("ger-lsp-{}", std::process::id());
+    let socket = dir.path().join("tmux.sock");
+    let tmux_command = |args: &[&str]| {
+        let mut command = Command::new(&tmux);
+        command.arg("-S").arg(&socket).args(args);
+        command
+    };
+    let shell = format!(
+        "cd {dir} && TERM=xterm-256color GER_READY={ready} nvim -u init.lua -i NONE bracket.nc",
+        dir = dir.path().display(),
+        ready = ready.display()
+    );
+    let started =
+        tmux_command(&["-f", "/dev/null", "new-session", "-d", "-s", &session, "-x", "100", "-y", "20", &shell])
+            .status()
+            .unwrap();
+    assert!(started.success(), "tmux did not start");
+    let deadline = Instant::now() + Duration::from_secs(90);
+    while !ready.exists() && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let captured = tmux_command(&["capture-pane", "-p", "-e", "-t", &session]).output().unwrap();
+    let _ = tmux_command(&["kill-server"]).status();
+    let screen = String::from_utf8_lossy(&captured.stdout).into_owned();
+    assert!(ready.exists(), "Neovim was not ready within 90 s:\n{screen}");
+    let plain: String = {
+        let mut plain = String::new();
+        let mut chars = screen.chars();
+        while let Some(c) = chars.next() {
+            if c == '\x1b' {
+                chars.by_ref().find(|c| c.is_ascii_alphabetic());
+            } else {
+                plain.push(c);
+            }
+        }
+        plain
+    };
+    // What the server said, as Neovim shows it: the F refused, and the hover.
+    assert!(plain.contains("F is not allowed on a G00"), "{plain}");
+    assert!(plain.contains("50.800 mm"), "{plain}");
+    assert!(plain.contains("X150.800"), "{plain}");
+
+    let html = dir.path().join("screen.html");
+    std::fs::write(&html, screen_html(&screen)).unwrap();
+    let picture = if std::env::var("UPDATE_SCREENSHOT").is_ok_and(|v| v == "1") {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/lsp-neovim.png")
+    } else {
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join("lsp-neovim.png")
+    };
+    let shot = support::process::run(
+        Command::new(&chromium)
+            .args(["--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=860,356"])
+            .arg(format!("--screenshot={}", picture.display()))
+            .arg(format!("file://{}", html.display())),
+        Duration::from_secs(120),
+    );
+    assert_eq!(shot.code, Some(0), "{}{}", shot.stdout, shot.stderr);
+    assert!(std::fs::read(&picture).unwrap().starts_with(b"\x89PNG"), "no picture at {}", picture.display());
 }

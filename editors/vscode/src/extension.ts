@@ -12,6 +12,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
   const server: ServerOptions = { command, args };
   const clientOptions: LanguageClientOptions = {
     documentSelector: [{ scheme: "file", language: "gcode" }],
+    initializationOptions: { inlayHints: config.get<boolean>("inlayHints", false) },
   };
   client = new LanguageClient("ger", "ger", server, clientOptions);
   context.subscriptions.push(client);

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 
 use super::render::{refused, Bar, GridArgs};
 use super::{styled, CommonArgs};
-use ger_check::{Bounds, Finding, ProfileUsed, Rule, Summary, Verdict};
+use ger_check::{duration, Bounds, Finding, Rule, Summary, Verdict};
 use ger_core::config::Config;
 use ger_core::diag::{Diagnostic, Severity};
 use std::path::PathBuf;
@@ -333,8 +333,7 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config, design: Problems
         d = decimals
     );
     let planned = &s.planned;
-    let _ =
-        writeln!(out, "  run time  {} planned on {}", duration(planned.seconds), profile_text(&planned.profile, unit));
+    let _ = writeln!(out, "  run time  {} planned on {}", duration(planned.seconds), planned.profile.text(unit));
     let _ = writeln!(
         out,
         "            {} at programmed feeds (rapids at {} {unit}/min, no acceleration)",
@@ -395,28 +394,6 @@ fn summary_text(name: &str, verdict: &Verdict, config: &Config, design: Problems
         let _ = writeln!(out, "  problems  {}", problems.join(", "));
     }
     out
-}
-
-/// Which profile the time was planned on, and where it came from.
-fn profile_text(profile: &ProfileUsed, unit: &str) -> String {
-    let preset = profile.preset;
-    match (&profile.grbl_settings, profile.configured) {
-        (_, false) => format!("{preset}, GRBL 1.1h's defaults in {unit} (no [machine.motion] in ger.toml)"),
-        (Some(file), true) => format!("the GRBL settings of {file} over {preset} ([machine.motion])"),
-        (None, true) => format!("[machine.motion] over {preset}"),
-    }
-}
-
-/// "1 h 02 min", "3 min 05 s", "12.5 s".
-fn duration(seconds: f64) -> String {
-    let whole = seconds.round() as u64;
-    if whole >= 3600 {
-        format!("{} h {:02} min", whole / 3600, (whole % 3600 + 30) / 60)
-    } else if whole >= 60 {
-        format!("{} min {:02} s", whole / 60, whole % 60)
-    } else {
-        format!("{seconds:.1} s")
-    }
 }
 
 /// `ger check --format json`: field names are part of ger's interface.

@@ -9,7 +9,7 @@ use clap::Args;
 use super::{UnitsArg, WizardOptions};
 use ger_core::config::Config;
 use ger_core::diag::clip;
-use ger_core::wizard::{Wizards, SHOWN_MESSAGE};
+use ger_core::wizard::{key, Wizards, SHOWN_MESSAGE};
 use ger_engine::Settings;
 use ger_lsp::{WizardInfo, WizardParam};
 use ger_wasm::build::Language;
@@ -69,8 +69,10 @@ fn describe(options: &WizardOptions) -> Vec<WizardInfo> {
                 Some(source) => main_file(&source.dir, source.language),
                 None => entry.wasm.clone(),
             };
+            // Programs call it by its file's name; as it writes that name, if it does.
+            let name = if key(&d.name) == key(&entry.name) { &d.name } else { &entry.name };
             Some(WizardInfo {
-                name: entry.name.clone(),
+                name: shown(name),
                 summary: shown(&d.summary),
                 usage: shown(&d.usage),
                 params: d

@@ -24,7 +24,7 @@ use ger_core::tools::ToolSource;
 use ger_sim::{Contact, Guard, HeightField, Intrusion, Part, PartKind, Point, Segment, Simulation, Solid, Tracker};
 pub use summary::{Bounds, Summary, ToolUse};
 use timing::Timing;
-pub use timing::{outermost_line, CallTime, Planned, ProfileUsed, ToolTime};
+pub use timing::{duration, outermost_line, CallTime, Planned, ProfileUsed, ToolTime};
 
 /// One problem: a translator's diagnostic (no rule) or a check's.
 #[derive(Clone, Debug, PartialEq)]

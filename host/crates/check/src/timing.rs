@@ -44,6 +44,17 @@ impl ProfileUsed {
             machine: profile.machine,
         }
     }
+
+    /// Which profile the time was planned on, and where it came from, with
+    /// `unit` the machine's.
+    pub fn text(&self, unit: &str) -> String {
+        let preset = self.preset;
+        match (&self.grbl_settings, self.configured) {
+            (_, false) => format!("{preset}, GRBL 1.1h's defaults in {unit} (no [machine.motion] in ger.toml)"),
+            (Some(file), true) => format!("the GRBL settings of {file} over {preset} ([machine.motion])"),
+            (None, true) => format!("[machine.motion] over {preset}"),
+        }
+    }
 }
 
 /// One tool's planned time: from its tool change (the change's own time
@@ -231,4 +242,16 @@ pub fn outermost_line(statement: &Statement) -> u32 {
         next = origin.parent.as_deref();
     }
     line
+}
+
+/// "1 h 02 min", "3 min 05 s", "12.5 s".
+pub fn duration(seconds: f64) -> String {
+    let whole = seconds.round() as u64;
+    if whole >= 3600 {
+        format!("{} h {:02} min", whole / 3600, (whole % 3600 + 30) / 60)
+    } else if whole >= 60 {
+        format!("{} min {:02} s", whole / 60, whole % 60)
+    } else {
+        format!("{seconds:.1} s")
+    }
 }

@@ -22,8 +22,10 @@ pub enum Spindle {
 /// Everything in machine units and machine coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
-    /// Written by pass 01.
+    /// Written by pass 01, as is `polar`.
     pub program_units: Units,
+    /// G16 in force: the plane's second axis word is an angle.
+    pub polar: bool,
     /// Program zero in machine coordinates; written by pass 02.
     pub prz: [f64; 3],
     /// How far the coordinate system is turned about program zero (G10 L2
@@ -60,6 +62,7 @@ pub type Probe = Rc<RefCell<Snapshot>>;
 pub fn probe(machine_units: Units) -> Probe {
     Rc::new(RefCell::new(Snapshot {
         program_units: machine_units,
+        polar: false,
         prz: [0.0; 3],
         rotation: 0.0,
         position: [0.0; 3],

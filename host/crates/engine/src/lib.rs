@@ -43,7 +43,7 @@ pub use program::{
 };
 pub use progress::{Progress, Silent};
 pub use report::Report;
-pub use source::{ReadError, Source};
+pub use source::{canonical_path, ReadError, Source};
 
 // What a caller needs to use the answers, from the crates that make them.
 pub use ger_check as check;

@@ -11,7 +11,8 @@ use ger_compare::{Design, Judged};
 use ger_controller::Writer;
 use ger_core::config::{quoted, Bounds, Config, MAX_MEMORY_MIB};
 use ger_core::emit::Emitter;
-use ger_core::passes::{translate, Event, Options, LAST_STAGE};
+use ger_core::passes::{translate_probed, Event, Options, LAST_STAGE};
+use ger_core::state::{Probe, Snapshot};
 use ger_core::statement::{Statement, Units};
 use ger_core::wizard::{NoWizards, Wizards};
 use ger_render::label;
@@ -79,16 +80,30 @@ struct Parts<'p> {
 impl<'p> Parts<'p> {
     /// The translation after `stage`; `count` follows the bytes of the program read.
     fn events(self, stage: u8, count: Arc<AtomicU64>) -> Box<dyn Iterator<Item = Event> + 'p> {
+        self.probed_events(stage, count).0
+    }
+
+    fn probed_events(self, stage: u8, count: Arc<AtomicU64>) -> (Box<dyn Iterator<Item = Event> + 'p>, Probe) {
         let library = library(self.source, &self.config.dialect);
         let options = Options { config: self.config, stage, wizards: self.wizards };
-        translate(Counting { inner: self.source.open(), count }, library, options)
+        translate_probed(Counting { inner: self.source.open(), count }, library, options)
     }
 
     fn for_each_event(self, job: &'static str, progress: &mut dyn Progress, mut each: impl FnMut(Event) -> bool) {
+        self.for_each_event_in_state(job, progress, |event, _| each(event))
+    }
+
+    fn for_each_event_in_state(
+        self,
+        job: &'static str,
+        progress: &mut dyn Progress,
+        mut each: impl FnMut(Event, &Snapshot) -> bool,
+    ) {
         let count = Arc::new(AtomicU64::new(0));
         progress.begin(job, self.source.size());
-        for (n, event) in self.events(LAST_STAGE, count.clone()).enumerate() {
-            if !each(event) {
+        let (events, probe) = self.probed_events(LAST_STAGE, count.clone());
+        for (n, event) in events.enumerate() {
+            if !each(event, &probe.borrow()) {
                 break;
             }
             if n % 4096 == 0 {
@@ -173,6 +188,18 @@ impl Program {
     /// telling `progress` how much of the program the pass `job` has read.
     pub fn for_each_event(&mut self, job: &'static str, progress: &mut dyn Progress, each: impl FnMut(Event) -> bool) {
         self.parts().for_each_event(job, progress, each)
+    }
+
+    /// As [`Program::for_each_event`], with the machine state where the
+    /// translation has got to (`translate_probed`'s): the program's units,
+    /// distance mode and program zero a statement was read in.
+    pub fn for_each_event_in_state(
+        &mut self,
+        job: &'static str,
+        progress: &mut dyn Progress,
+        each: impl FnMut(Event, &Snapshot) -> bool,
+    ) {
+        self.parts().for_each_event_in_state(job, progress, each)
     }
 
     /// Hands every output statement to `each` (which returns false to stop,

@@ -154,3 +154,13 @@ impl<R: BufRead> BufRead for Counting<R> {
         self.inner.consume(amount)
     }
 }
+
+/// `path` with its folder's symlinks resolved, even when the file itself is
+/// gone (an editor's save may delete it for a moment): how a watcher knows
+/// the file an event names.
+pub fn canonical_path(path: &Path) -> PathBuf {
+    path.canonicalize().unwrap_or_else(|_| match (path.parent(), path.file_name()) {
+        (Some(parent), Some(name)) => canonical_path(parent).join(name),
+        _ => path.to_path_buf(),
+    })
+}

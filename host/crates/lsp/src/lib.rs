@@ -15,9 +15,11 @@
 mod actions;
 mod analysis;
 mod codes;
+mod hover;
 mod outline;
 mod server;
 mod text;
+mod watch;
 
 use std::path::{Path, PathBuf};
 

@@ -203,18 +203,25 @@ fn block_label(block: &Block) -> String {
     }
 }
 
-/// The token of line `line` (text `line_text`, 1-based number `line`) at
-/// 1-based byte column `col`, as ger's lexer reads the line alone.
-pub fn token_at(line_text: &str, line: u32, col: u32, dialect: Dialect) -> Option<Token> {
-    Lexer::in_dialect(line_text.as_bytes(), dialect).starting_at(line).find_map(|lexed| match lexed {
-        Lexed::Token(token)
-            if token.kind != TokenKind::End
-                && (token.span.col..token.span.col + token.span.len.max(1)).contains(&col) =>
-        {
-            Some(token)
-        }
-        _ => None,
-    })
+/// The tokens of line `line` (text `line_text`, 1-based number `line`), as
+/// ger's lexer reads the line alone, each with the text it is written as.
+pub fn line_tokens(line_text: &str, line: u32, dialect: Dialect) -> Vec<(Token, String)> {
+    Lexer::in_dialect(line_text.as_bytes(), dialect)
+        .starting_at(line)
+        .filter_map(|lexed| match lexed {
+            Lexed::Token(token) if token.kind != TokenKind::End => {
+                let from = token.span.col.saturating_sub(1) as usize;
+                let written = line_text.get(from..from + token.span.len as usize).unwrap_or("").to_string();
+                Some((token, written))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// Whether a token covers 1-based byte column `col` (an empty one, its own column).
+pub fn covers(token: &Token, col: u32) -> bool {
+    (token.span.col..token.span.col + token.span.len.max(1)).contains(&col)
 }
 
 #[cfg(test)]
@@ -252,9 +259,11 @@ mod tests {
 
     #[test]
     fn the_token_under_the_cursor() {
-        let token = token_at("G01 X1.5 (cut)", 4, 6, Dialect::Strict).unwrap();
+        let tokens = line_tokens("G01 X1.5 (cut)", 4, Dialect::Strict);
+        let (token, written) = tokens.iter().find(|(t, _)| covers(t, 6)).unwrap();
         assert_eq!(token.kind, TokenKind::Word { letter: 'X', value: 1.5 });
         assert_eq!(token.span, Span::new(4, 5, 4));
-        assert!(token_at("G01 X1.5", 4, 4, Dialect::Strict).is_none());
+        assert_eq!(written, "X1.5");
+        assert!(!tokens.iter().any(|(t, _)| covers(t, 4)));
     }
 }

@@ -14,27 +14,30 @@ use lsp_types::notification::{
     DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Notification as _, PublishDiagnostics,
 };
 use lsp_types::request::{
-    CodeActionRequest, Completion, DocumentSymbolRequest, GotoDefinition, HoverRequest, References, Request as _,
+    CodeActionRequest, Completion, DocumentSymbolRequest, GotoDefinition, HoverRequest, InlayHintRequest, References,
+    Request as _,
 };
 use lsp_types::{
     CodeActionKind, CodeActionParams, CodeActionProviderCapability, CompletionItem, CompletionItemKind,
     CompletionOptions, CompletionParams, CompletionResponse, DocumentSymbol, DocumentSymbolParams,
     DocumentSymbolResponse, Documentation, GotoDefinitionParams, GotoDefinitionResponse, Hover, HoverContents,
-    HoverParams, HoverProviderCapability, InitializeParams, Location, MarkupContent, MarkupKind, OneOf, Position,
-    PublishDiagnosticsParams, Range, ReferenceParams, ServerCapabilities, ServerInfo, SymbolKind,
-    TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions, Url,
+    HoverParams, HoverProviderCapability, InitializeParams, InlayHint, InlayHintLabel, InlayHintParams,
+    InlayHintTooltip, Location, MarkupContent, MarkupKind, OneOf, Position, PublishDiagnosticsParams, Range,
+    ReferenceParams, ServerCapabilities, ServerInfo, SymbolKind, TextDocumentSyncCapability, TextDocumentSyncKind,
+    TextDocumentSyncOptions, Url,
 };
+use ropey::Rope;
 use serde::de::DeserializeOwned;
 
 use crate::analysis::{analyse, Analysis};
 use crate::codes::{self, codes};
-use crate::outline::{token_at, Block};
-use crate::text::Document;
-use crate::{actions, Options, WizardInfo};
+use crate::outline::{covers, line_tokens, Block};
+use crate::text::{Document, LineText};
+use crate::watch::{self, Folders, Follower, Watched};
+use crate::{actions, hover, Options, WizardInfo};
 use ger_engine::core::diag::Span;
-use ger_engine::core::emit::push_number;
 use ger_engine::core::lex::TokenKind;
-use ger_engine::core::statement::Dialect;
+use ger_engine::core::statement::{Dialect, Distance};
 use ger_engine::core::wizard::key as wizard_key;
 
 /// Why the server stopped before the editor said `exit`.
@@ -58,6 +61,11 @@ pub fn serve_stdio(options: Options) -> Result<(), Error> {
 
 /// Serves the protocol on `connection` until the editor says `exit`.
 pub fn serve(connection: Connection, options: Options) -> Result<(), Error> {
+    let (id, params) = connection.initialize_start()?;
+    // What the editor says about itself changes nothing; what it asks of ger,
+    // in its initializationOptions, may: `{"inlayHints": true}`.
+    let asked = serde_json::from_value::<InitializeParams>(params).ok().and_then(|p| p.initialization_options);
+    let inlay_hints = asked.as_ref().and_then(|o| o.get("inlayHints")?.as_bool()).unwrap_or(false);
     let capabilities = ServerCapabilities {
         text_document_sync: Some(TextDocumentSyncCapability::Options(TextDocumentSyncOptions {
             open_close: Some(true),
@@ -73,24 +81,25 @@ pub fn serve(connection: Connection, options: Options) -> Result<(), Error> {
             ..lsp_types::CodeActionOptions::default()
         })),
         completion_provider: Some(CompletionOptions::default()),
+        inlay_hint_provider: inlay_hints.then_some(OneOf::Left(true)),
         ..ServerCapabilities::default()
     };
     let initialize = serde_json::json!({
         "capabilities": capabilities,
         "serverInfo": ServerInfo { name: "ger".to_string(), version: Some(env!("CARGO_PKG_VERSION").to_string()) },
     });
-    let (id, params) = connection.initialize_start()?;
-    // Nothing the editor says about itself changes what is served.
-    let _: Option<InitializeParams> = serde_json::from_value(params).ok();
     connection.initialize_finish(id, initialize)?;
 
+    let (folders, events) = Folders::new().unzip();
     let shared = Arc::new(Shared {
+        folders: Mutex::new(folders),
         options,
         documents: Mutex::new(HashMap::new()),
         wake: Condvar::new(),
         analyses: Mutex::new(HashMap::new()),
         catalogs: Mutex::new(HashMap::new()),
         sender: connection.sender.clone(),
+        inlay_hints,
         generations: AtomicU64::new(0),
         stopping: AtomicBool::new(false),
     });
@@ -101,10 +110,24 @@ pub fn serve(connection: Connection, options: Options) -> Result<(), Error> {
             .spawn(move || shared.work())
             .map_err(|cause| Error::Io { what: "start the analysis thread", cause })?
     };
+    let watcher = match events {
+        Some(events) => {
+            let shared = shared.clone();
+            let thread = std::thread::Builder::new()
+                .name("ger lsp watcher".to_string())
+                .spawn(move || watch::follow(&*shared, &events))
+                .map_err(|cause| Error::Io { what: "start the watching thread", cause })?;
+            Some(thread)
+        }
+        None => None,
+    };
     let served = serve_messages(&connection, &shared);
     shared.stopping.store(true, Ordering::SeqCst);
     shared.wake.notify_all();
     let _ = worker.join();
+    if let Some(watcher) = watcher {
+        let _ = watcher.join();
+    }
     served
 }
 
@@ -148,6 +171,10 @@ struct Shared {
     /// The wizards of each folder, described once.
     catalogs: Mutex<HashMap<PathBuf, Arc<Vec<WizardInfo>>>>,
     sender: Sender<Message>,
+    /// Whether the editor asked for inlay hints.
+    inlay_hints: bool,
+    /// The folders watched (none without a watcher).
+    folders: Mutex<Option<Folders>>,
     generations: AtomicU64,
     stopping: AtomicBool,
 }
@@ -156,7 +183,7 @@ struct Shared {
 struct Job {
     uri: Url,
     path: PathBuf,
-    text: Arc<str>,
+    text: Rope,
     version: i32,
     generation: u64,
     newest: Arc<AtomicU64>,
@@ -180,7 +207,7 @@ impl Shared {
                 // An unsaved buffer has no path: it is analysed as if in the working folder.
                 let path = item.uri.to_file_path().unwrap_or_else(|()| PathBuf::from(item.uri.path()));
                 let open = Open {
-                    document: Document::new(item.text, item.version),
+                    document: Document::new(&item.text, item.version),
                     path,
                     generation: Arc::new(AtomicU64::new(0)),
                     due: None,
@@ -231,20 +258,27 @@ impl Shared {
         while let Some(job) = self.next_job() {
             let stale =
                 || self.stopping.load(Ordering::Relaxed) || job.newest.load(Ordering::Relaxed) != job.generation;
-            let Some(analysis) = analyse(&self.options, &job.uri, &job.path, job.text, &stale) else {
+            // Watched before they are read: a change after the read is seen.
+            self.watch(&self.watched_of(&job.uri));
+            // Made here, not under the documents' lock: the text is the job's own.
+            let text: Arc<str> = Arc::from(String::from(&job.text));
+            let Some(analysis) = analyse(&self.options, &job.uri, &job.path, text, &stale) else {
                 continue;
             };
             let wizards = self.options.wizards_dir(job.path.parent().unwrap_or(std::path::Path::new("/")));
             let diagnostics = analysis.diagnostics.clone();
+            let replaced;
             {
                 // Stored and published under the documents' lock, so a close cannot come between.
                 let documents = lock(&self.documents);
                 if stale() || !documents.contains_key(&job.uri) {
                     continue;
                 }
-                lock(&self.analyses).insert(job.uri.clone(), Arc::new(analysis));
+                replaced = lock(&self.analyses).insert(job.uri.clone(), Arc::new(analysis));
                 self.publish(job.uri, diagnostics, Some(job.version));
             }
+            // Freed after the locks: the positions of a large program take a while.
+            drop(replaced);
             if !lock(&self.catalogs).contains_key(&wizards) {
                 let catalog = Arc::new((self.options.catalog)(&wizards));
                 lock(&self.catalogs).insert(wizards, catalog);
@@ -275,12 +309,18 @@ impl Shared {
             return Some(Job {
                 uri,
                 path: open.path.clone(),
-                text: Arc::from(open.document.text.as_str()),
+                text: open.document.snapshot(),
                 version: open.document.version,
                 generation: open.generation.load(Ordering::SeqCst),
                 newest: open.generation.clone(),
             });
         }
+    }
+
+    /// The wizards folder of the program `uri` names.
+    fn wizards_dir_of(&self, uri: &Url) -> PathBuf {
+        let path = uri.to_file_path().unwrap_or_default();
+        self.options.wizards_dir(path.parent().unwrap_or(std::path::Path::new("/")))
     }
 
     fn answer(&self, request: Request) -> Response {
@@ -299,6 +339,9 @@ impl Shared {
                 serde_json::to_value(actions::code_actions(uri, &s.config_of(uri), &p.context.diagnostics))
             }),
             Completion::METHOD => self.with(request, |s, p: CompletionParams| serde_json::to_value(s.completion(p))),
+            InlayHintRequest::METHOD => {
+                self.with(request, |s, p: InlayHintParams| serde_json::to_value(s.inlay_hints(p).unwrap_or_default()))
+            }
             method => return method_not_found(id, method),
         };
         match result {
@@ -327,32 +370,37 @@ impl Shared {
     }
 
     fn catalog(&self, uri: &Url) -> Arc<Vec<WizardInfo>> {
-        let path = uri.to_file_path().unwrap_or_default();
-        let dir = self.options.wizards_dir(path.parent().unwrap_or(std::path::Path::new("/")));
-        lock(&self.catalogs).get(&dir).cloned().unwrap_or_default()
+        lock(&self.catalogs).get(&self.wizards_dir_of(uri)).cloned().unwrap_or_default()
     }
 
-    /// What is under the cursor: the code's meaning, the wizard's usage, an
-    /// axis's machine coordinate; and where the tool is after the line.
+    /// What the program `uri` names reads besides its text.
+    fn watched_of(&self, uri: &Url) -> Watched {
+        let path = uri.to_file_path().unwrap_or_default();
+        let folder = path.parent().unwrap_or(std::path::Path::new("/"));
+        Watched::new(&self.config_of(uri), folder, &self.wizards_dir_of(uri))
+    }
+
+    /// What is under the cursor: the code's meaning, the wizard's usage, a
+    /// length's value in the machine's unit and an axis's machine
+    /// coordinate; and where the tool is after the line, and when.
     fn hover(&self, p: HoverParams) -> Option<Hover> {
         let uri = &p.text_document_position_params.text_document.uri;
         let position = p.text_document_position_params.position;
         let analysis = self.analysis(uri);
         let dialect = analysis.as_ref().map_or(Dialect::Strict, |a| a.dialect);
-        let (token, range) = {
+        let (tokens, at, range) = {
             let documents = lock(&self.documents);
             let document = &documents.get(uri)?.document;
             let (line, col, line_text) = document.cursor(position);
-            let token = token_at(line_text, line, col, dialect);
-            let range =
-                token.as_ref().map(|t| document.lines.range(&document.text, t.span.line, t.span.col, t.span.len));
-            (token, range)
+            let tokens = line_tokens(&line_text, line, dialect);
+            let at = tokens.iter().position(|(token, _)| covers(token, col));
+            let range = at.map(|i| document.range(line, tokens[i].0.span.col, tokens[i].0.span.len));
+            (tokens, at, range)
         };
-        let line = position.line + 1;
-        let after = analysis.as_ref().map(|a| (a.position_after(line), a));
+        let line = position.line.saturating_add(1);
         let mut sections = Vec::new();
-        match token.as_ref().map(|t| &t.kind) {
-            Some(TokenKind::Word { letter: letter @ ('G' | 'M'), value }) => {
+        match at.map(|i| (&tokens[i].0.kind, tokens[i].1.as_str())) {
+            Some((TokenKind::Word { letter: letter @ ('G' | 'M'), value }, _)) => {
                 let code = codes::name(*letter, *value);
                 let rows = codes().rows(&code);
                 if rows.is_empty() {
@@ -360,22 +408,18 @@ impl Shared {
                 }
                 sections.extend(rows.iter().map(|row| row.markdown()));
             }
-            Some(TokenKind::Word { letter: letter @ ('X' | 'Y' | 'Z'), .. }) => {
-                if let Some((Some((moved, at)), analysis)) = &after {
-                    if *moved == line {
-                        let axis = (*letter as u8 - b'X') as usize;
-                        let units = analysis.units.abbreviation();
-                        let mut value = String::new();
-                        push_number(&mut value, at[axis], analysis.units.decimals());
-                        sections.push(format!("**{letter}** after this line: {value} {units}, in machine coordinates"));
-                    }
+            Some((TokenKind::Word { letter, value }, written)) => {
+                if let Some(analysis) = &analysis {
+                    let g10 = tokens.iter().any(|(t, _)| t.kind == TokenKind::Word { letter: 'G', value: 10.0 });
+                    let word = hover::Word { letter: *letter, value: *value, written, line, on_g10: g10 };
+                    sections.extend(hover::word_text(&word, analysis));
                 }
             }
-            Some(TokenKind::Ident(name)) => sections.push(wizard_hover(name, &self.catalog(uri))),
+            Some((TokenKind::Ident(name), _)) => sections.push(hover::wizard_hover(name, &self.catalog(uri))),
             _ => {}
         }
-        if let Some((after, analysis)) = &after {
-            sections.push(position_text(line, *after, analysis));
+        if let Some(analysis) = &analysis {
+            sections.push(hover::line_text(line, analysis));
         }
         (!sections.is_empty()).then(|| Hover {
             contents: HoverContents::Markup(MarkupContent {
@@ -404,7 +448,7 @@ impl Shared {
         let call = analysis.outline.call_at(line, col)?;
         let block = analysis.outline.definition(&call.label)?;
         let start = block.start;
-        let range = document.lines.range(&document.text, start.line, start.col, start.len);
+        let range = document.range(start.line, start.col, start.len);
         Some(GotoDefinitionResponse::Scalar(Location { uri: uri.clone(), range }))
     }
 
@@ -422,10 +466,7 @@ impl Shared {
             Some(call) => call.label.clone(),
             None => outline.blocks.iter().find(|b| b.start.line == line)?.label.clone()?,
         };
-        let location = |span: Span| Location {
-            uri: uri.clone(),
-            range: document.lines.range(&document.text, span.line, span.col, span.len),
-        };
+        let location = |span: Span| Location { uri: uri.clone(), range: document.range(span.line, span.col, span.len) };
         let definition = outline.definition(&label).filter(|_| p.context.include_declaration);
         let calls = outline.calls.iter().filter(|call| call.label == label);
         Some(definition.map(|b| b.start).into_iter().chain(calls.map(|call| call.span)).map(location).collect())
@@ -440,8 +481,8 @@ impl Shared {
         let blocks = &analysis.outline.blocks;
         let symbol = |block: &Block| {
             let start = block.start;
-            let selection = document.lines.range(&document.text, start.line, start.col, start.len);
-            let last = document.lines.line(&document.text, block.end_line.saturating_sub(1) as usize);
+            let selection = document.range(start.line, start.col, start.len);
+            let last = document.line(block.end_line.saturating_sub(1) as usize);
             let end =
                 Position { line: block.end_line.saturating_sub(1), character: last.encode_utf16().count() as u32 };
             #[allow(deprecated)] // `deprecated` is a field every literal must name.
@@ -473,6 +514,44 @@ impl Shared {
         Some(DocumentSymbolResponse::Nested(built.into_iter().flatten().collect()))
     }
 
+    /// At the end of each line in the range whose move is relative (G91)
+    /// or polar (G16), where the tool is after it, in machine coordinates;
+    /// nothing unless the editor asked for inlay hints.
+    fn inlay_hints(&self, p: InlayHintParams) -> Option<Vec<InlayHint>> {
+        if !self.inlay_hints {
+            return None;
+        }
+        let uri = &p.text_document.uri;
+        let analysis = self.analysis(uri)?;
+        let documents = lock(&self.documents);
+        let document = &documents.get(uri)?.document;
+        let moves = analysis.moves_between(p.range.start.line.saturating_add(1), p.range.end.line.saturating_add(1));
+        let hints = moves.iter().filter_map(|&(line, at)| {
+            let state = analysis.state_at(line)?;
+            if state.distance != Distance::Incremental && !state.polar {
+                return None;
+            }
+            let end = document.line(line as usize - 1).encode_utf16().count() as u32;
+            Some(InlayHint {
+                position: Position { line: line - 1, character: end },
+                label: InlayHintLabel::String(format!(
+                    "→ {} {}",
+                    hover::place(at, analysis.units),
+                    analysis.units.abbreviation()
+                )),
+                kind: None,
+                text_edits: None,
+                tooltip: Some(InlayHintTooltip::String(
+                    "where the tool is after this line, in machine coordinates".to_string(),
+                )),
+                padding_left: Some(true),
+                padding_right: None,
+                data: None,
+            })
+        });
+        Some(hints.collect())
+    }
+
     /// The codes of the README's table and the wizards of the program's folder.
     fn completion(&self, p: CompletionParams) -> CompletionResponse {
         let mut items: Vec<CompletionItem> = codes()
@@ -489,10 +568,40 @@ impl Shared {
             label: wizard.name.clone(),
             kind: Some(CompletionItemKind::FUNCTION),
             detail: Some(wizard.usage.clone()),
-            documentation: Some(markdown(wizard_text(wizard))),
+            documentation: Some(markdown(hover::wizard_text(wizard))),
             ..CompletionItem::default()
         }));
         CompletionResponse::Array(items)
+    }
+}
+
+impl Follower for Shared {
+    fn watched(&self) -> Vec<Watched> {
+        let open: Vec<Url> = lock(&self.documents).keys().cloned().collect();
+        open.iter().map(|uri| self.watched_of(uri)).collect()
+    }
+
+    fn watch(&self, program: &Watched) -> Vec<PathBuf> {
+        lock(&self.folders).as_mut().map(|folders| folders.add(program)).unwrap_or_default()
+    }
+
+    /// A file a program's analysis reads changed: the program is analysed
+    /// again at once (its text has not changed: the same version is
+    /// published again), and a wizards folder whose `.wasm` changed is
+    /// described again after it.
+    fn files_changed(&self, paths: &[PathBuf]) {
+        let open: Vec<Url> = lock(&self.documents).keys().cloned().collect();
+        for uri in open {
+            let watched = self.watched_of(&uri);
+            if paths.iter().any(|path| watched.reads(path)) {
+                lock(&self.catalogs).remove(&self.wizards_dir_of(&uri));
+                self.changed(&uri, Instant::now());
+            }
+        }
+    }
+
+    fn stopping(&self) -> bool {
+        self.stopping.load(Ordering::SeqCst)
     }
 }
 
@@ -502,42 +611,4 @@ fn method_not_found(id: RequestId, method: &str) -> Response {
 
 fn markdown(value: String) -> Documentation {
     Documentation::MarkupContent(MarkupContent { kind: MarkupKind::Markdown, value })
-}
-
-fn wizard_hover(name: &str, catalog: &[WizardInfo]) -> String {
-    match catalog.iter().find(|w| wizard_key(&w.name) == wizard_key(name)) {
-        Some(wizard) => wizard_text(wizard),
-        None => format!("**{name}**: a wizard call; no wizard of that name is described in the wizards folder"),
-    }
-}
-
-/// A wizard's usage, summary and parameters.
-fn wizard_text(wizard: &WizardInfo) -> String {
-    let mut text = format!("**{}** (wizard)\n\n`{}`\n\n{}", wizard.name, wizard.usage, wizard.summary);
-    for param in &wizard.params {
-        let optional = if param.optional { " (optional)" } else { "" };
-        text.push_str(&format!("\n- `{}`{optional}: {}", param.name, param.description));
-    }
-    text
-}
-
-/// Where the tool is after 1-based `line`, in machine coordinates.
-fn position_text(line: u32, after: Option<(u32, [f64; 3])>, analysis: &Analysis) -> String {
-    let units = analysis.units.abbreviation();
-    let Some((moved, at)) = after else {
-        return "Before the first move: the tool is at machine zero (X0 Y0 Z0)".to_string();
-    };
-    let mut place = String::new();
-    for (axis, value) in ["X", "Y", "Z"].iter().zip(at) {
-        if !place.is_empty() {
-            place.push(' ');
-        }
-        place.push_str(axis);
-        push_number(&mut place, value, analysis.units.decimals());
-    }
-    if moved == line {
-        format!("After line {line}: **{place}** {units}, in machine coordinates")
-    } else {
-        format!("After line {line} (no move on it; the last before it is on line {moved}): **{place}** {units}, in machine coordinates")
-    }
 }

@@ -5,12 +5,14 @@
 //! old file would not see.
 
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::Duration;
 
 use notify::{Event, EventKind, RecommendedWatcher, RecursiveMode, Watcher};
+
+use ger_engine::canonical_path as canonical;
 
 use crate::session::Session;
 use crate::Error;
@@ -24,15 +26,6 @@ pub(crate) fn start(session: Arc<Session>) -> Result<(), Error> {
         .spawn(move || follow(watcher, &rx, &session))
         .map_err(|cause| Error::Start { what: "watch for changes", cause })?;
     Ok(())
-}
-
-/// The path with its folder's symlinks resolved, even when the file itself
-/// is gone (an editor's save may delete it for a moment).
-fn canonical(path: &Path) -> PathBuf {
-    path.canonicalize().unwrap_or_else(|_| match (path.parent(), path.file_name()) {
-        (Some(parent), Some(name)) => canonical(parent).join(name),
-        _ => path.to_path_buf(),
-    })
 }
 
 fn follow(mut watcher: RecommendedWatcher, events: &mpsc::Receiver<notify::Result<Event>>, session: &Session) {

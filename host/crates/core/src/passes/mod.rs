@@ -19,7 +19,7 @@ use crate::lex::Lexer;
 use crate::macros::Interpreter;
 use crate::parse::parse_in;
 pub use crate::parse::Event;
-use crate::state;
+use crate::state::{self, Probe};
 use crate::statement::{Dialect, Statement};
 use crate::wizard::Wizards;
 
@@ -160,6 +160,18 @@ pub fn translate<'a, R: BufRead + 'a>(
     library: Library<'a>,
     options: Options<'a>,
 ) -> Box<dyn Iterator<Item = Event> + 'a> {
+    translate_probed(program, library, options).0
+}
+
+/// As [`translate`], with the machine state passes 01-04 keep: read between
+/// two events, it is the state after the statement last handed out, or
+/// ahead of it while a pass holds statements back (cutter compensation,
+/// the moves a canned cycle expands into).
+pub fn translate_probed<'a, R: BufRead + 'a>(
+    program: R,
+    library: Library<'a>,
+    options: Options<'a>,
+) -> (Box<dyn Iterator<Item = Event> + 'a>, Probe) {
     let Options { config, stage, wizards } = options;
     wizards.start();
     let probe = state::probe(config.units);
@@ -187,11 +199,11 @@ pub fn translate<'a, R: BufRead + 'a>(
         2,
     );
     let stream = tapped(Box::new(Stage::new(stream, p03_polar::Polar::default())), 3);
-    let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config, probe))), 4);
+    let stream = tapped(Box::new(Stage::new(stream, p04_absolute::Absolute::new(config, probe.clone()))), 4);
     let stream = Box::new(Stage::new(stream, p05_cutter_comp::CutterComp::new(config)));
     let shown: Box<dyn Iterator<Item = Event> + 'a> =
         if stage == LAST_STAGE { stream } else { Box::new(tap.drain(stream)) };
-    Box::new(shown.map(only_finite))
+    (Box::new(shown.map(only_finite)), probe)
 }
 
 /// Nothing non-finite leaves the translator: the lexer bounds every number,

@@ -53,7 +53,10 @@ impl Pass for Units {
                 self.probe.borrow_mut().program_units = *units;
                 return;
             }
-            Kind::Polar(on) => self.polar = *on,
+            Kind::Polar(on) => {
+                self.polar = *on;
+                self.probe.borrow_mut().polar = *on;
+            }
             Kind::Plane(plane) => self.plane = *plane,
             Kind::Motion(m) if factor != 1.0 => {
                 let angle = if self.polar { Some(self.plane.axes().1) } else { None };
