@@ -13,6 +13,7 @@
 #   host/bench/render.sh [LINES]     (default 1000000)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source host/bench/camotics.sh
 lines=${1:-1000000}
 out=host/bench/out
 mkdir -p "$out"
@@ -69,17 +70,7 @@ corpus=../shared/corpus/camotics-examples
 if [ ! -d "$corpus" ]; then echo "no CAMotics examples found: skipping the comparison"; exit 0; fi
 camotics() { # NAME KIND DIAMETER MIN MAX
   local name=$1 kind=$2 diameter=$3 min=$4 max=$5
-  sed -E 's/\bG80\b|\bG64\b|\bG94\b//g; s/T([0-9]+) ?M0?6/M06 T\1/; s/S[0-9.]+//g' "$corpus/$name/$name.nc" > "$out/$name.ngc"
-  python3 - "$out/$name.toml" "$kind" "$diameter" "$min" "$max" <<'PY'
-import sys
-path, kind, diameter, lo, hi = sys.argv[1:]
-lo = [float(v) for v in lo.split(",")]
-hi = [float(v) for v in hi.split(",")]
-size = ", ".join(f"{h - l:g}" for l, h in zip(lo, hi))
-origin = ", ".join(f"{-l:g}" for l in lo)
-open(path, "w").write(f'units = "mm"\n[[tools]]\nnumber = 1\nkind = "{kind}"\ndiameter = {diameter}\n'
-                      f"[stock]\nsize = [{size}]\norigin = [{origin}]\n")
-PY
+  camotics_job "$out" "$corpus" "$name" "$kind" "$diameter" "$min" "$max"
   local moves
   moves=$(grep -cE '^(N[0-9]+ *)?(G0?[0-3]|[XYZ])' "$out/$name.ngc" || true)
   measure "$name ($moves moves), stl" "$moves" "$ger" render "$out/$name.ngc" --config "$out/$name.toml" -o "$out/$name.stl" --resolution 0.46 --quiet

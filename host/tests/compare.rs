@@ -156,17 +156,20 @@ fn a_job_is_compared_on_the_part_its_programs_leave_together() {
     assert!(text.contains("; cut by deep.ngc lines 8, 9\n"), "{text}");
 }
 
+/// `ger check ARGS --design slot.stl` in `path` at a 0.5 mm grid: its exit status and its report.
+fn check_against_slot(path: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let mut all = vec!["check"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--design", "slot.stl", "--resolution", "0.5", "-q"]);
+    let out = ger(path, &all);
+    (out.status.code(), String::from_utf8(out.stdout).unwrap())
+}
+
 #[test]
 fn check_of_a_job_with_a_design_judges_the_part_the_whole_job_leaves() {
     let dir = job_folder();
     let path = dir.path();
-    let check = |args: &[&str]| {
-        let mut all = vec!["check"];
-        all.extend_from_slice(args);
-        all.extend_from_slice(&["--design", "slot.stl", "--resolution", "0.5", "-q"]);
-        let out = ger(path, &all);
-        (out.status.code(), String::from_utf8(out.stdout).unwrap())
-    };
+    let check = |args: &[&str]| check_against_slot(path, args);
     // The finishing program's rapid goes into the roughed slot's air: clean, and the part is the design.
     let (status, text) = check(&["rough.ngc", "finish.ngc"]);
     assert_eq!(status, Some(0), "{text}");
@@ -188,13 +191,7 @@ fn check_of_a_job_with_a_design_judges_the_part_the_whole_job_leaves() {
 fn with_a_design_the_summary_counts_what_the_exit_status_counts() {
     let dir = job_folder();
     let path = dir.path();
-    let check = |args: &[&str]| {
-        let mut all = vec!["check"];
-        all.extend_from_slice(args);
-        all.extend_from_slice(&["--design", "slot.stl", "--resolution", "0.5", "-q"]);
-        let out = ger(path, &all);
-        (out.status.code(), String::from_utf8(out.stdout).unwrap())
-    };
+    let check = |args: &[&str]| check_against_slot(path, args);
     // A gouge with no other finding: an error, not "no problems found".
     let (status, text) = check(&["slot_deep.ngc"]);
     assert_eq!(status, Some(1), "{text}");

@@ -233,13 +233,9 @@ fn past_a_hundred_a_rule_only_counts_and_batches_do_not_lose_moves() {
     assert_eq!(verdict.findings[99].diagnostic.span.line, 103);
 }
 
-#[test]
-fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
-    // Five 100 mm lines at 50 mm/s, each from rest to rest (each turns back
-    // on the last, or follows a tool change): 2 + 50 / 500 = 2.1 s each. The
-    // grbl-default profile: X at 500 mm/s².
-    let program = "G21\nG01 X100 F3000\nM98 P10\nM06 T2\nM98 P10\nM30\nO10\nG01 X0\nG01 X100\nM99\n";
-    let mut config = config();
+/// The verdict on `program`, timed line by line, on `config`'s machine with
+/// a tool 2 like its tool 1.
+fn timed_with_two_tools(program: &str, mut config: Config) -> Verdict {
     config.tools.push(Tool { number: 2, ..config.tools[0].clone() });
     let stock = Stock::from_config(&config).unwrap();
     let sim = Simulation::new(stock, 1.0, 1 << 30).unwrap();
@@ -247,7 +243,16 @@ fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
     for statement in testing::statements_with(program, &config) {
         checker.statement(&statement);
     }
-    let verdict = checker.finish();
+    checker.finish()
+}
+
+#[test]
+fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
+    // Five 100 mm lines at 50 mm/s, each from rest to rest (each turns back
+    // on the last, or follows a tool change): 2 + 50 / 500 = 2.1 s each. The
+    // grbl-default profile: X at 500 mm/s².
+    let program = "G21\nG01 X100 F3000\nM98 P10\nM06 T2\nM98 P10\nM30\nO10\nG01 X0\nG01 X100\nM99\n";
+    let verdict = timed_with_two_tools(program, config());
     let planned = &verdict.summary.planned;
     let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
     assert!(near(planned.seconds, 5.0 * 2.1), "{planned:?}");
@@ -278,14 +283,7 @@ fn the_lenient_dialects_calls_are_timed_as_pass_00s_are() {
                    O20\nG01 X0\nG01 X100\nM99\n";
     let mut config = config();
     config.dialect.name = ger_core::statement::Dialect::Lenient;
-    config.tools.push(Tool { number: 2, ..config.tools[0].clone() });
-    let stock = Stock::from_config(&config).unwrap();
-    let sim = Simulation::new(stock, 1.0, 1 << 30).unwrap();
-    let mut checker = Checker::new(&config, sim, &[]).timing_lines();
-    for statement in testing::statements_with(program, &config) {
-        checker.statement(&statement);
-    }
-    let verdict = checker.finish();
+    let verdict = timed_with_two_tools(program, config);
     let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
     assert!(near(verdict.summary.planned.seconds, 5.0 * 2.1), "{:?}", verdict.summary.planned);
     let calls: Vec<(&str, u32, f64)> =

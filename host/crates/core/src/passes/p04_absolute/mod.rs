@@ -104,8 +104,15 @@ impl Absolute {
     /// With `spirals`, the centre of an arc whose radii differ by more than
     /// the output's tolerance (but within LinuxCNC's) stays where it was
     /// written, for the arc to go out as LinuxCNC's spiral; without, it moves
-    /// to where both radii are equal.
-    fn arc_centre(&self, motion: &mut Motion, end: [f64; 3], span: Span, spirals: bool) -> Result<Axes, Diagnostic> {
+    /// to where both radii are equal. True with the offsets if the arc is
+    /// such a spiral.
+    fn arc_centre(
+        &self,
+        motion: &mut Motion,
+        end: [f64; 3],
+        span: Span,
+        spirals: bool,
+    ) -> Result<(Axes, bool), Diagnostic> {
         let (a, b, normal) = self.plane.axes();
         let letters = ['I', 'J', 'K'];
         if let Some(v) = motion.centre.get(normal) {
@@ -152,7 +159,7 @@ impl Absolute {
             let mut offsets = Axes::default();
             *offsets.slot(a) = Some(Value { value: centre.0 - start.0, span: r.span });
             *offsets.slot(b) = Some(Value { value: centre.1 - start.1, span: r.span });
-            return Ok(offsets);
+            return Ok((offsets, false));
         }
         if motion.centre.get(a).is_none() && motion.centre.get(b).is_none() {
             let message = format!("arc without a centre: give {} and {}, or R", letters[a], letters[b]);
@@ -188,7 +195,7 @@ impl Absolute {
         }
         offsets.slot(a).get_or_insert(Value { value: 0.0, span });
         offsets.slot(b).get_or_insert(Value { value: 0.0, span });
-        Ok(offsets)
+        Ok((offsets, error > tolerance && spirals))
     }
 
     /// How far LinuxCNC lets an arc's end be off its circle: 0.002 in (or
@@ -230,15 +237,10 @@ impl Absolute {
         }
         if mode.is_arc() {
             let spirals = spirals && self.dialect == Dialect::Lenient;
-            motion.centre = self.arc_centre(motion, end, span, spirals)?;
-            if spirals {
-                let (a, b, _) = self.plane.axes();
-                let offset = |axis: usize| motion.centre.get(axis).map_or(0.0, |v| v.value);
-                let centre = [self.position[a] + offset(a), self.position[b] + offset(b)];
-                let radius = |p: [f64; 3]| (p[a] - centre[0]).hypot(p[b] - centre[1]);
-                if (radius(self.position) - radius(end)).abs() > self.units.arc_tolerance() {
-                    self.spiral_from = Some(self.position);
-                }
+            let (centre, spiral) = self.arc_centre(motion, end, span, spirals)?;
+            motion.centre = centre;
+            if spiral {
+                self.spiral_from = Some(self.position);
             }
             motion.radius = None;
             // An arc states both of its plane's axes, whatever was written.
