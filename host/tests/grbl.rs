@@ -3,8 +3,9 @@
 //! for GRBL, is run through GRBL 1.1h's own parser
 //! (`../shared/peers/grbl/bin/gvalidate`, in check mode `$C`, which parses
 //! and checks every line, arcs too, without moving or pausing at M00), and
-//! no line may get an `error:` or `ALARM:` answer. The figures (programs
-//! translated, passed) are printed, for the README.
+//! no line may get an `error:` or `ALARM:` answer. Nor may the target refuse
+//! a program ger translates for no target. The figures (programs
+//! translated, passed, refused by ger) are printed, for the README.
 
 mod support;
 
@@ -62,27 +63,50 @@ fn grbl_takes_every_line_of_the_corpus_translated_for_it() {
     let (mut translated, mut passed, mut refused) = (0, 0, Vec::new());
     // ger's own output, for the figure beside it: what the target is for.
     let mut generic_refused = 0;
+    // Programs ger refuses, for no target as for GRBL.
+    let mut untranslated = 0;
+    // Programs only the GRBL target refuses: none may be.
+    let mut target_refuses = Vec::new();
     for entry in corpus::entries(&corpus) {
         if matches!(entry.class(), Class::Other(_)) {
             continue;
         }
-        let run = corpus::translate_for(&corpus.join(&entry.path), entry.units(), &config, "grbl", WALL_LIMIT);
-        if run.code != Some(0) {
-            continue;
+        let file = corpus.join(&entry.path);
+        let run = corpus::translate_for(&file, entry.units(), &config, "grbl", WALL_LIMIT);
+        let generic = corpus::translate_for(&file, entry.units(), &config, "generic", WALL_LIMIT);
+        assert!(!run.timed_out && !generic.timed_out, "{}: ger ran too long", entry.path);
+        match (run.code == Some(0), generic.code == Some(0)) {
+            (true, _) => {}
+            (false, false) => {
+                untranslated += 1;
+                continue;
+            }
+            (false, true) => {
+                target_refuses.push(format!("{}: {}", entry.path, corpus::first_error(&run.stderr)));
+                continue;
+            }
         }
         translated += 1;
         match refused_line(scratch.path(), &run.stdout) {
             None => passed += 1,
             Some(why) => refused.push(format!("{}: {why}", entry.path)),
         }
-        let generic = corpus::translate_for(&corpus.join(&entry.path), entry.units(), &config, "generic", WALL_LIMIT);
-        generic_refused += usize::from(refused_line(scratch.path(), &generic.stdout).is_some());
+        if generic.code == Some(0) {
+            generic_refused += usize::from(refused_line(scratch.path(), &generic.stdout).is_some());
+        }
     }
     eprintln!(
         "GRBL takes every line of {passed} of the {translated} corpus programs ger translates with --target grbl \
-         (and refuses a line of {generic_refused} of them translated for no target)"
+         (and refuses a line of {generic_refused} of them translated for no target); ger refuses {untranslated} \
+         more, for every target"
     );
     assert!(translated > 0, "no corpus program translated");
+    assert!(
+        target_refuses.is_empty(),
+        "ger translates {} programs for no target but refuses them for GRBL:\n{}",
+        target_refuses.len(),
+        target_refuses.join("\n")
+    );
     assert!(refused.is_empty(), "GRBL refuses a line of {} programs:\n{}", refused.len(), refused.join("\n"));
 }
 

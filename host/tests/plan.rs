@@ -33,7 +33,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
+
+use sha2::{Digest, Sha256};
 
 use support::corpus::{self, Class};
 
@@ -105,13 +108,13 @@ struct Job {
     /// `--lenient --units U`, for the corpus's programs.
     units: Option<&'static str>,
     config: PathBuf,
+    lines: usize,
 }
 
 /// What ger says of a program: its planned span of moves, and the time at programmed feeds.
 struct Planned {
     moving: f64,
     programmed: f64,
-    lines: usize,
 }
 
 fn ger(job: &Job, args: &[&str]) -> support::process::Finished {
@@ -124,28 +127,32 @@ fn ger(job: &Job, args: &[&str]) -> support::process::Finished {
     support::process::run(&mut command, WALL_LIMIT)
 }
 
-/// `ger check --format json`'s planned time, if the program translates and moves.
-fn plan(job: &Job) -> Option<Planned> {
+/// `ger check --format json`'s planned time, if the program moves.
+fn plan(job: &Job) -> Result<Option<Planned>, String> {
     let run = ger(job, &["check", "--quiet", "--format", "json"]);
-    assert!(!run.timed_out, "{}: ger check ran too long", job.name);
-    let report: serde_json::Value = serde_json::from_str(&run.stdout).ok()?;
+    if run.timed_out {
+        return Err("ger check ran too long".into());
+    }
+    let report: serde_json::Value = serde_json::from_str(&run.stdout)
+        .map_err(|e| format!("ger check printed no report ({e}): {}", corpus::first_error(&run.stderr)))?;
     let summary = &report["summary"];
     let [start, end] = [0, 1].map(|i| summary["planned"]["moving"][i].as_f64());
-    Some(Planned {
-        moving: end? - start?,
-        programmed: summary["run_time_seconds"].as_f64()?,
-        lines: std::fs::read(&job.file).map_or(0, |b| b.split(|c| *c == b'\n').count()),
-    })
+    let (Some(start), Some(end)) = (start, end) else { return Ok(None) };
+    Ok(Some(Planned {
+        moving: end - start,
+        programmed: summary["run_time_seconds"].as_f64().ok_or("ger check gave no run time")?,
+    }))
 }
 
-/// The program as GRBL runs it: ger's output for it, pauses made stops.
-fn for_grbl(job: &Job) -> Option<String> {
+/// The program as GRBL runs it: ger's output for it, pauses made stops;
+/// or ger's first error, if it refuses the program.
+fn for_grbl(job: &Job) -> Result<String, String> {
     let run = ger(job, &["run", "--target", "grbl"]);
     if run.code != Some(0) {
-        return None;
+        return Err(corpus::first_error(&run.stderr));
     }
     let lines: Vec<&str> = run.stdout.lines().map(|line| if is_pause(line) { "G4 P0" } else { line }).collect();
-    Some(lines.join("\n") + "\n")
+    Ok(lines.join("\n") + "\n")
 }
 
 /// An `M00` line of ger's output (`N120 M00 (MSG, load tool 2)`).
@@ -154,19 +161,54 @@ fn is_pause(line: &str) -> bool {
     code == "M00" || code.starts_with("M00 ")
 }
 
-/// GRBL's time for `program` (written in `scratch` as `name`), seconds.
-fn grbl_time(scratch: &Path, name: &str, program: &str) -> Result<f64, String> {
+/// GRBL's time for `program` (written in `scratch` as `name`), seconds,
+/// from the cache of gtime's answers if it timed the same program before.
+/// `expected` (ger's planned time, s) makes room for a long program: gtime
+/// runs at least five times faster than the machine.
+fn grbl_time(scratch: &Path, name: &str, program: &str, expected: f64) -> Result<f64, String> {
+    let cached = cache_entry(program);
+    if let Some(seconds) = std::fs::read_to_string(&cached).ok().and_then(|s| s.trim().parse().ok()) {
+        return Ok(seconds);
+    }
     let file = scratch.join(name.replace(['/', ' '], "_") + ".nc");
     std::fs::write(&file, program).unwrap();
-    let run = support::process::run(Command::new("python3").arg(gtime()).arg(&file), WALL_LIMIT);
+    let limit = WALL_LIMIT.max(Duration::from_secs_f64(expected));
+    let mut command = Command::new("python3");
+    command.arg(gtime()).arg(&file).arg("--timeout").arg(limit.as_secs().to_string());
+    let run = support::process::run(&mut command, limit + Duration::from_secs(60));
+    let _ = std::fs::remove_file(&file);
     if run.timed_out {
         return Err("gtime ran too long".into());
     }
-    let _ = std::fs::remove_file(&file);
-    match run.code {
-        Some(0) => run.stdout.trim().parse().map_err(|_| format!("gtime printed {:?}", run.stdout)),
-        _ => Err(format!("gtime failed: {}", run.stderr.lines().take(3).collect::<Vec<_>>().join(" / "))),
+    let seconds: f64 = match run.code {
+        Some(0) => run.stdout.trim().parse().map_err(|_| format!("gtime printed {:?}", run.stdout))?,
+        _ => return Err(format!("gtime failed: {}", run.stderr.lines().take(3).collect::<Vec<_>>().join(" / "))),
+    };
+    // Written whole, then renamed: the other worker may read it at any time.
+    let partial = cached.with_extension("partial");
+    std::fs::create_dir_all(cached.parent().unwrap()).unwrap();
+    std::fs::write(&partial, format!("{seconds}\n")).unwrap();
+    std::fs::rename(&partial, &cached).unwrap();
+    Ok(seconds)
+}
+
+/// Where gtime's answer for `program` is kept, in the build's own scratch
+/// folder: its name is a digest of all that the answer depends on (the
+/// program, gtime, its simulator and its profile). The lockstep simulator
+/// repeats to the clock tick, so the answer is as good as a new run's, and a
+/// long run that stops half-way (the longest programs take hours) resumes
+/// where it stopped.
+fn cache_entry(program: &str) -> PathBuf {
+    let peer = gtime().parent().unwrap().to_path_buf();
+    let mut digest = Sha256::new();
+    for part in [gtime(), peer.join("bin/grbl-sim"), peer.join("profiles/default.txt")] {
+        let bytes = std::fs::read(&part).unwrap_or_else(|e| panic!("{}: {e}", part.display()));
+        digest.update((bytes.len() as u64).to_le_bytes());
+        digest.update(bytes);
     }
+    digest.update(program.as_bytes());
+    let name: String = digest.finalize().iter().map(|b| format!("{b:02x}")).collect();
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("gtime").join(name)
 }
 
 struct Row {
@@ -195,6 +237,26 @@ fn relative(ours: f64, theirs: f64) -> f64 {
     }
 }
 
+/// Runs `work` on each of `items`, on both cores, in their order.
+fn on_two_cores<'a, T: Sync>(items: &'a [T], work: impl Fn(&'a T) + Sync) {
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| {
+                while let Some(item) = items.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    work(item);
+                }
+            });
+        }
+    });
+}
+
+/// A file's lines, as an editor counts them (a last line without its newline too).
+fn line_count(file: &Path) -> usize {
+    let text = std::fs::read(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    text.split(|c| *c == b'\n').count() - usize::from(text.last().is_none_or(|c| *c == b'\n'))
+}
+
 /// The programs: `tests/check/`, the corpus's short ones, part of the tiger.
 fn jobs(scratch: &Path, scope: Scope) -> Vec<Job> {
     let mut jobs = Vec::new();
@@ -205,10 +267,8 @@ fn jobs(scratch: &Path, scope: Scope) -> Vec<Job> {
             continue;
         }
         let file = corpus.join(&entry.path);
-        let lines = std::fs::read(&file).map_or(usize::MAX, |b| b.split(|c| *c == b'\n').count());
-        if lines <= scope.most_lines {
-            jobs.push(Job { name: entry.path.clone(), file, units: Some(entry.units()), config: config.clone() });
-        }
+        let lines = line_count(&file);
+        jobs.push(Job { name: entry.path.clone(), file, units: Some(entry.units()), config: config.clone(), lines });
     }
     if scope.long {
         return jobs;
@@ -224,14 +284,16 @@ fn jobs(scratch: &Path, scope: Scope) -> Vec<Job> {
     for file in names {
         let config = file.with_extension("toml");
         let name = format!("tests/check/{}", file.file_name().unwrap().to_string_lossy());
-        jobs.push(Job { name, file, units: None, config });
+        let lines = line_count(&file);
+        jobs.push(Job { name, file, units: None, config, lines });
     }
     let tiger = std::fs::read_to_string(corpus.join("camotics-examples/tiger/tiger.nc")).unwrap();
     let passes: String = tiger.lines().skip(TIGER_FROM).take(TIGER_LINES).map(|l| format!("{l}\n")).collect();
     let file = scratch.join("tiger-passes.nc");
     std::fs::write(&file, format!("{TIGER_START}{passes}")).unwrap();
     let name = format!("camotics-examples/tiger/tiger.nc, lines {} to {}", TIGER_FROM + 1, TIGER_FROM + TIGER_LINES);
-    jobs.push(Job { name, file, units: Some("mm"), config });
+    let lines = line_count(&file);
+    jobs.push(Job { name, file, units: Some("mm"), config, lines });
     jobs
 }
 
@@ -253,57 +315,92 @@ fn the_planned_time_is_grbls_within_two_percent() {
     let scratch = tempfile::tempdir().unwrap();
     let range = Scope::from_env();
     let jobs = jobs(scratch.path(), range);
-    // Two workers: ger's check, then gtime, one program at a time each.
-    let next = Mutex::new(0);
-    let rows = Mutex::new(Vec::new());
+
+    let untimed = Mutex::new(Vec::new());
+    // Corpus programs past the default run's limits, which PLAN-LONG.md times.
+    let past = Mutex::new(0);
     let failures = Mutex::new(Vec::new());
-    let gtime_wall = Mutex::new(Duration::ZERO);
-    std::thread::scope(|scope| {
-        for _ in 0..2 {
-            scope.spawn(|| loop {
-                let index = {
-                    let mut next = next.lock().unwrap();
-                    *next += 1;
-                    *next - 1
-                };
-                let Some(job) = jobs.get(index) else { break };
-                let Some(planned) = plan(job) else { continue };
-                // The corpus's files, not the tiger's excerpt (in the default run).
-                let in_corpus = job.units.is_some() && job.file.starts_with(corpus::dir());
-                if in_corpus && !range.takes(planned.lines, planned.moving) {
-                    continue;
-                }
-                let Some(program) = for_grbl(job) else { continue };
-                let started = std::time::Instant::now();
-                match grbl_time(scratch.path(), &job.name, &program) {
-                    Ok(grbl) => rows.lock().unwrap().push(Row {
-                        name: job.name.clone(),
-                        lines: planned.lines,
-                        grbl,
-                        ger: planned.moving,
-                        programmed: planned.programmed,
-                    }),
-                    Err(why) => failures.lock().unwrap().push(format!("{}: {why}", job.name)),
-                }
-                *gtime_wall.lock().unwrap() += started.elapsed();
-            });
+    let fail = |job: &Job, why: String| failures.lock().unwrap().push(format!("{}: {why}", job.name));
+
+    // First ger plans them all, then gtime times the shortest first: a long
+    // run stopped half-way has timed the programs up to some length, which a
+    // run with that limit finds kept.
+    let planned = Mutex::new(Vec::new());
+    on_two_cores(&jobs, |job| {
+        let not_timed = |why: String| untimed.lock().unwrap().push(NotTimed { name: job.name.clone(), why });
+        // The corpus's files, not the tiger's excerpt (in the default run).
+        let in_corpus = job.units.is_some() && job.file.starts_with(corpus::dir());
+        if in_corpus && job.lines > range.most_lines {
+            if range.long {
+                not_timed(format!("past this run's limits: {} lines", job.lines));
+            } else {
+                *past.lock().unwrap() += 1;
+            }
+            return;
         }
+        // A corpus program is in one of the two tables, whose line limits it is within.
+        let in_table = !in_corpus || range.takes(job.lines, 0.0);
+        let program = match for_grbl(job) {
+            Ok(program) => program,
+            Err(error) => return if in_table { not_timed(format!("ger refuses it: {error}")) },
+        };
+        match plan(job) {
+            Ok(Some(plan)) if in_corpus && !range.takes(job.lines, plan.moving) => {
+                if !range.long {
+                    *past.lock().unwrap() += 1;
+                } else if plan.moving > range.most_seconds {
+                    not_timed(format!("past this run's limits: planned {:.0} s", plan.moving));
+                }
+            }
+            Ok(Some(plan)) => planned.lock().unwrap().push((job, program, plan)),
+            Ok(None) if in_table => not_timed("it never moves".into()),
+            Ok(None) => {}
+            Err(why) => fail(job, why),
+        }
+    });
+    let mut planned = planned.into_inner().unwrap();
+    planned.sort_by(|(_, _, a), (_, _, b)| a.moving.total_cmp(&b.moving));
+
+    let rows = Mutex::new(Vec::new());
+    let gtime_wall = Mutex::new(Duration::ZERO);
+    on_two_cores(&planned, |(job, program, plan)| {
+        let started = std::time::Instant::now();
+        match grbl_time(scratch.path(), &job.name, program, plan.moving) {
+            Ok(grbl) => {
+                if range.long {
+                    eprintln!("{}: GRBL {grbl:.3} s, ger {:.3} s", job.name, plan.moving);
+                }
+                rows.lock().unwrap().push(Row {
+                    name: job.name.clone(),
+                    lines: job.lines,
+                    grbl,
+                    ger: plan.moving,
+                    programmed: plan.programmed,
+                })
+            }
+            Err(why) => fail(job, why),
+        }
+        *gtime_wall.lock().unwrap() += started.elapsed();
     });
     let mut rows = rows.into_inner().unwrap();
     rows.sort_by(|a, b| a.name.cmp(&b.name));
+    let mut untimed = untimed.into_inner().unwrap();
+    untimed.sort_by(|a, b| a.name.cmp(&b.name));
     let failures = failures.into_inner().unwrap();
     eprintln!(
-        "gtime ran {} programs in {:.0} s of its wall time",
+        "gtime timed {} programs in {:.0} s of its wall time (its earlier answers kept in {}); {} not timed",
         rows.len(),
-        gtime_wall.into_inner().unwrap().as_secs_f64()
+        gtime_wall.into_inner().unwrap().as_secs_f64(),
+        cache_entry("").parent().unwrap().display(),
+        untimed.len()
     );
 
-    let table = table(&rows, range);
+    let table = table(&rows, &untimed, past.into_inner().unwrap(), range);
     let path = repository().join(range.table_file());
     if std::env::var_os("UPDATE_EXPECT").is_some() {
         std::fs::write(&path, &table).unwrap();
     }
-    assert!(failures.is_empty(), "GRBL could not time {} programs:\n{}", failures.len(), failures.join("\n"));
+    assert!(failures.is_empty(), "{} programs could not be timed:\n{}", failures.len(), failures.join("\n"));
     assert!(range.long || rows.len() > 90, "only {} programs timed", rows.len());
     let off: Vec<String> = rows
         .iter()
@@ -319,8 +416,14 @@ fn the_planned_time_is_grbls_within_two_percent() {
     );
 }
 
+/// A program the run would take but could not time, and why.
+struct NotTimed {
+    name: String,
+    why: String,
+}
+
 /// `tests/corpus/PLAN.md`, or `PLAN-LONG.md`.
-fn table(rows: &[Row], scope: Scope) -> String {
+fn table(rows: &[Row], untimed: &[NotTimed], past: usize, scope: Scope) -> String {
     let mean =
         |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).sum::<f64>() / rows.len().max(1) as f64;
     let worst = |f: &dyn Fn(&Row) -> f64| 100.0 * rows.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
@@ -341,7 +444,7 @@ fn table(rows: &[Row], scope: Scope) -> String {
         (
             "UPDATE_EXPECT=1 cargo test --test plan".to_string(),
             format!(
-                "every one of `tests/check/` that translates, the corpus's mill programs of at most {MOST_LINES} \
+                "every one of `tests/check/`, the corpus's mill programs of at most {MOST_LINES} \
                  lines that take at most {MOST_SECONDS} s, and {TIGER_LINES} lines of the tiger relief's passes over \
                  the relief, after a move to where they start"
             ),
@@ -381,6 +484,23 @@ fn table(rows: &[Row], scope: Scope) -> String {
             r.programmed,
             100.0 * relative(r.programmed, r.grbl)
         );
+    }
+    let _ = writeln!(out, "\n## Not timed\n");
+    if !scope.long {
+        let _ = writeln!(
+            out,
+            "{past} more of the corpus's mill programs are past these limits: `PLAN-LONG.md` times them, up to its \
+             own.\n"
+        );
+    }
+    if untimed.is_empty() {
+        let _ = writeln!(out, "Every other program the run takes is timed.");
+    } else {
+        let _ = writeln!(out, "{} programs the run takes are not timed:\n", untimed.len());
+        let _ = writeln!(out, "| program | why |\n| --- | --- |");
+        for NotTimed { name, why } in untimed {
+            let _ = writeln!(out, "| `{}` | {} |", name.replace('|', "\\|"), why.replace('|', "\\|"));
+        }
     }
     out
 }
