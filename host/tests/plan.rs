@@ -32,8 +32,8 @@ mod support;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 use std::time::Duration;
 
 use sha2::{Digest, Sha256};
@@ -342,7 +342,12 @@ fn the_planned_time_is_grbls_within_two_percent() {
         let in_table = !in_corpus || range.takes(job.lines, 0.0);
         let program = match for_grbl(job) {
             Ok(program) => program,
-            Err(error) => return if in_table { not_timed(format!("ger refuses it: {error}")) },
+            Err(error) => {
+                if in_table {
+                    not_timed(format!("ger refuses it: {error}"));
+                }
+                return;
+            }
         };
         match plan(job) {
             Ok(Some(plan)) if in_corpus && !range.takes(job.lines, plan.moving) => {
