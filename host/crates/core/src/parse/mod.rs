@@ -513,18 +513,15 @@ fn code(letter: char, value: Value, words: &Words, dialect: Dialect) -> Result<K
             // LinuxCNC's dynamic compensation: D is the cutter's diameter;
             // L, a lathe tool's orientation, means nothing to a mill.
             words.only("D", &name)?;
-            let side = if number == 411 { Side::Left } else { Side::Right };
             let diameter = words.get('D').ok_or_else(|| {
                 Diagnostic::error(span, format!("{name} needs D: the cutter's diameter")).with_help(format!(
                     "{name} D6 compensates for a cutter 6 across (G41/G42 D<tool> take it from the tool table)"
                 ))
             })?;
-            if diameter.value < 0.0 {
-                return Err(Diagnostic::error(
-                    diameter.span,
-                    format!("{name}'s D is a diameter: it cannot be negative"),
-                ));
-            }
+            // A negative diameter puts the cutter on the other side, as LinuxCNC takes it.
+            let left = (number == 411) != (diameter.value < 0.0);
+            let side = if left { Side::Left } else { Side::Right };
+            let diameter = Value { value: diameter.value.abs(), ..diameter };
             Kind::CutterComp { side, d: None, diameter: Some(diameter) }
         }
         ('G', 430) | ('G', 440) => {
@@ -1186,6 +1183,17 @@ mod tests {
                 Event::Diagnostic(d) => d.to_string(),
             })
             .collect()
+    }
+
+    #[test]
+    fn a_negative_dynamic_diameter_compensates_on_the_other_side() {
+        // LinuxCNC's rule (rs274: G41.1 D-2 moves as G42.1 D2); `tests/differential/lenient/dynamic_comp.ngc`.
+        for (text, side) in [("G41.1 D-3", "Right"), ("G42.1 D-3", "Left"), ("G41.1 D3", "Left"), ("G42.1 D3", "Right")]
+        {
+            let expected = format!("1:1 CutterComp {{ side: {side}, d: None, diameter: Some(Value {{ value: 3.0,");
+            let parsed = parsed_lenient(text);
+            assert!(parsed.len() == 1 && parsed[0].starts_with(&expected), "{text}: {parsed:?}");
+        }
     }
 
     #[test]

@@ -12,6 +12,11 @@ use crate::statement::Side;
 /// Below this, a length is rounding noise (machine units are inches or mm).
 const NOISE: f64 = 1e-9;
 
+/// LinuxCNC's tolerance for concave corners (`TOLERANCE_CONCAVE_CORNER`),
+/// radians: a corner that turns back on itself to within this is rounded
+/// like an outside corner.
+const REVERSAL: f64 = 0.05;
+
 /// A point or a vector in the plane (glam's: `perp_dot` is the z of the 3D
 /// cross product, > 0 when the other turns left; `perp` a quarter turn
 /// counter-clockwise).
@@ -169,6 +174,25 @@ impl Segment {
         }
     }
 
+    /// Whether `p`, a point of this path's line or circle, lies on the path
+    /// itself, between its ends.
+    fn passes_through(&self, p: Point) -> bool {
+        match *self {
+            Segment::Line { start, end } => {
+                let length = start.distance(end);
+                let along = (p - start).dot(end - start) / length.max(NOISE);
+                (-NOISE..=length + NOISE).contains(&along)
+            }
+            Segment::Arc { start, centre, ccw, sweep, .. } => {
+                let radius = start.distance(centre).max(NOISE);
+                let turned = (p - centre).to_angle() - (start - centre).to_angle();
+                let turned = (if ccw { turned } else { -turned }).rem_euclid(TAU);
+                let slack = NOISE / radius;
+                turned <= sweep + slack || turned >= TAU - slack
+            }
+        }
+    }
+
     /// Where the full line or circle of this path crosses the other's: none,
     /// one or two points.
     fn crossings(&self, other: &Segment) -> [Option<Point>; 2] {
@@ -238,18 +262,34 @@ pub fn corner(at: Point, a: &Segment, b: &Segment, side: Side, gap: f64) -> Opti
     if a.end().distance(b.start()) <= gap {
         return Some(Corner::Smooth);
     }
-    let turn = a.end_tangent().perp_dot(b.start_tangent());
-    // A turn towards the tool's side is an inside corner; a full reversal,
-    // which turns neither way, is taken as outside (round the end of a slot).
-    let inside = match side {
-        Side::Left => turn > NOISE,
-        Side::Right => turn < -NOISE,
+    let (before, after) = (a.end_tangent(), b.start_tangent());
+    let towards_tool = match side {
+        Side::Left => before.perp_dot(after),
+        Side::Right => -before.perp_dot(after),
+    };
+    // A turn towards the tool's side is an inside corner. A move that turns
+    // back on the one before, to within REVERSAL of a full reversal either
+    // way, is judged as LinuxCNC judges it (its concave-corner tolerance):
+    // an inside corner where the tool runs outside the arc that follows, else
+    // outside, the tool going round the corner's point (round the end of a
+    // slot).
+    let near_reversal = towards_tool.atan2(before.dot(after)).abs() > PI - REVERSAL;
+    let inside = if near_reversal {
+        matches!(*b, Segment::Arc { ccw, .. } if ccw != (side == Side::Left))
+    } else {
+        towards_tool > NOISE
     };
     if !inside {
         return Some(Corner::Around { from: a.end(), to: b.start(), ccw: side == Side::Right });
     }
-    let nearest = a.crossings(b).into_iter().flatten().min_by(|p, q| p.distance(at).total_cmp(&q.distance(at)))?;
-    Some(Corner::Cut(nearest))
+    // Where the offsets themselves cross, if they do: both cut short. Else
+    // where their lines or circles do, nearest the corner.
+    let crossings = a.crossings(b);
+    let nearest =
+        |points: &mut dyn Iterator<Item = Point>| points.min_by(|p, q| p.distance(at).total_cmp(&q.distance(at)));
+    let on_both =
+        nearest(&mut crossings.into_iter().flatten().filter(|p| a.passes_through(*p) && b.passes_through(*p)));
+    Some(Corner::Cut(on_both.or_else(|| nearest(&mut crossings.into_iter().flatten()))?))
 }
 
 #[cfg(test)]
@@ -388,6 +428,34 @@ mod tests {
         let back = line(1.0, 0.0, 0.0, 0.0);
         assert_around(join(&a, &back, Side::Left), (1.0, 0.25), (1.0, -0.25), false);
         assert_around(join(&a, &back, Side::Right), (1.0, -0.25), (1.0, 0.25), true);
+    }
+
+    #[test]
+    fn a_turn_back_within_linuxcncs_tolerance_goes_round_the_point() {
+        // Along -X into (0,0), then back out heading 2° above +X: a 178° turn
+        // to the right, towards a tool on the right (above the line, at y = R).
+        // rs274 moves so on linuxcnc-interp/crazy-paths, line 106.
+        let a = line(10.0, 0.0, 0.0, 0.0);
+        let (sin, cos) = 2f64.to_radians().sin_cos();
+        // A clockwise arc of radius 3 leaving (0,0) along (cos, sin): its
+        // centre is 3 to the right of that, and the tool runs inside it.
+        let inside_arc = arc((0.0, 0.0), (3.0 * sin - 3.0, -3.0 * cos), (3.0 * sin, -3.0 * cos), false);
+        // LinuxCNC goes round the point, counter-clockwise, to R along the
+        // arc's radius towards its centre.
+        assert_around(join(&a, &inside_arc, Side::Right), (0.0, R), (R * sin, -R * cos), true);
+        // With the tool on the left it runs outside that arc: an inside corner,
+        // cut where the offsets (y = -R, and the circle of radius 3 + R) cross
+        // on both, before the corner (the other crossing is past the line's end).
+        let x = 3.0 * sin + ((3.0 + R).powi(2) - (3.0 * cos - R).powi(2)).sqrt();
+        assert_cut(join(&a, &inside_arc, Side::Left), (x, -R));
+        // So does a line back out.
+        let back = line(0.0, 0.0, 5.0 * cos, 5.0 * sin);
+        assert_around(join(&a, &back, Side::Right), (0.0, R), (R * sin, -R * cos), true);
+        // Past the tolerance (a 170° turn) it is an inside corner, whose offsets cross far back along the line.
+        let (sin, cos) = 10f64.to_radians().sin_cos();
+        let steep = line(0.0, 0.0, 5.0 * cos, 5.0 * sin);
+        // The offsets, y = R and the line at R from the one through (0,0) along (cos, sin), cross at x = R (1 + cos) / sin.
+        assert_cut(join(&a, &steep, Side::Right), (R * (1.0 + cos) / sin, R));
     }
 
     #[test]
