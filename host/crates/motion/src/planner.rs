@@ -43,6 +43,8 @@ struct Block<T> {
     acceleration: f64,
     /// Units per second.
     nominal: f64,
+    /// The slowest the controller steps it, units per second.
+    slowest: f64,
     /// The most the entry speed may be (squared): the junction's, and neither block's nominal.
     max_entry_sqr: f64,
     /// The most it may be for the machine to stop at the end of the buffer (squared).
@@ -68,6 +70,8 @@ pub struct Planner<T> {
     capacity: usize,
     /// The slowest a feed move goes, units per second.
     min_feed: f64,
+    /// The slowest the controller steps the axis that steps most, steps per second (0: any speed).
+    slowest_step_rate: f64,
     blocks: VecDeque<Block<T>>,
     /// The last block's direction and nominal speed, while the machine has not stopped since.
     previous: Option<(Point, f64)>,
@@ -98,6 +102,7 @@ impl<T> Planner<T> {
             position: Point::ZERO,
             capacity: machine.planner_blocks.saturating_sub(1).max(1),
             min_feed: min_feed / 60.0,
+            slowest_step_rate: machine.slowest_step_rate,
             blocks: VecDeque::with_capacity(machine.planner_blocks),
             previous: None,
             clock: 0.0,
@@ -135,6 +140,8 @@ impl<T> Planner<T> {
             Speed::Feed(feed) => (feed / 60.0).max(self.min_feed).min(fastest),
         };
         let acceleration = limit(self.acceleration, unit);
+        let steps = (delta * self.steps).abs().max_element();
+        let slowest = self.slowest_step_rate * length / steps;
         let max_entry_sqr = match self.previous {
             None => 0.0,
             Some((previous, previous_nominal)) => {
@@ -146,8 +153,16 @@ impl<T> Planner<T> {
             self.execute_front(clock);
         }
         self.previous = Some((unit, nominal));
-        let block =
-            Block { length, acceleration, nominal, max_entry_sqr, braking_sqr: 0.0, entry_sqr: max_entry_sqr, tag };
+        let block = Block {
+            length,
+            acceleration,
+            nominal,
+            slowest,
+            max_entry_sqr,
+            braking_sqr: 0.0,
+            entry_sqr: max_entry_sqr,
+            tag,
+        };
         self.blocks.push_back(block);
         self.replan();
     }
@@ -216,7 +231,15 @@ impl<T> Planner<T> {
     fn execute_front(&mut self, clock: &mut impl Clock<T>) {
         let Some(block) = self.blocks.pop_front() else { return };
         let exit_sqr = self.blocks.front().map_or(0.0, |next| next.entry_sqr);
-        let seconds = trapezoid(block.length, block.acceleration, block.nominal, block.entry_sqr, exit_sqr);
+        // The planner plans the speed asked; the step generator goes no
+        // slower than its slowest step. A block asked slower than that runs
+        // at that speed all along (its ramps are below it); in one asked
+        // faster, what its ramps spend below it is a few microseconds.
+        let seconds = if block.nominal < block.slowest {
+            block.length / block.slowest
+        } else {
+            trapezoid(block.length, block.acceleration, block.nominal, block.entry_sqr, exit_sqr)
+        };
         clock.tick(&block.tag, self.clock, seconds);
         let start = self.moving.map_or(self.clock, |(start, _)| start);
         self.clock += seconds;

@@ -2,7 +2,8 @@
 //! one figure of GRBL's own (`../shared/peers/grbl/gtime.py`), each within
 //! 0.5%. The machine is the `grbl-default` preset in millimetres: X and Y
 //! at 5000 mm/min and 500 mm/s², Z at 1000 mm/min and 200 mm/s², junction
-//! deviation 0.01 mm, arc tolerance 0.002 mm, 16-block buffer, 250 steps/mm.
+//! deviation 0.01 mm, arc tolerance 0.002 mm, 16-block buffer, 250 steps/mm,
+//! and no step slower than 32.768 ms.
 
 use super::*;
 use ger_core::config::Config;
@@ -59,6 +60,21 @@ fn a_line_too_short_to_reach_its_feed() {
     // 2 mm, but reaching 50 mm/s takes 2.5 mm each way: up to the middle and
     // down again, 2 sqrt(L / a) = 2 sqrt(2 / 500).
     close(plan("G21 G90\nG01 X2 F3000\n"), 0.126491);
+}
+
+#[test]
+fn a_feed_below_the_slowest_step_runs_at_the_slowest_step() {
+    // GRBL's slowest step is 8 ticks of 65,536 cycles at 16 MHz: 32.768 ms.
+    // 1 mm at 250 steps/mm is 250 steps: 8.192 s at F5 (which would be
+    // 12 s) and at F2 alike, as GRBL itself times it (gtime.py).
+    close(plan("G21 G90\nG01 X1 F5\n"), 8.192);
+    close(plan("G21 G90\nG01 X1 F2\n"), 8.192);
+    // On a diagonal the axis that steps most sets the pace: X's 250 steps.
+    close(plan("G21 G90\nG01 X1 Y0.5 F2\n"), 8.192);
+    // Above it, the feed: 1 mm at F10 is 6 s (and a third of a millisecond of ramps).
+    close(plan("G21 G90\nG01 X1 F10\n"), 6.0);
+    // A controller without that floor runs F5 as asked: 12 s.
+    close(plan_with("G21 G90\nG01 X1 F5\n", &config("[machine.motion]\nslowest_step_rate = 0\n")).0, 12.0);
 }
 
 #[test]

@@ -40,6 +40,10 @@ pub struct MotionConfig {
     /// Dwells (G04) are rounded up to a multiple of this many seconds (GRBL:
     /// 0.05); 0 runs them as programmed.
     pub dwell_multiple: Option<f64>,
+    /// The slowest the controller steps, in steps per second of the axis
+    /// that steps most: a move programmed slower runs at this rate. 0: no
+    /// such floor.
+    pub slowest_step_rate: Option<f64>,
     /// The settings read from `grbl_settings` (the engine reads the file).
     #[serde(skip)]
     pub grbl: Option<GrblSettings>,
@@ -53,7 +57,8 @@ pub enum Preset {
     /// accelerations of the GRBL peer's default profile: X and Y at 5000
     /// mm/min and 500 mm/s², Z at 1000 mm/min and 200 mm/s², junction
     /// deviation 0.01 mm, arc tolerance 0.002 mm, a 16-block planner, dwells
-    /// in steps of 50 ms, 250 steps per mm.
+    /// in steps of 50 ms, 250 steps per mm, and no step slower than a 16 MHz
+    /// board's step timer goes ([`GRBL_SLOWEST_STEP_RATE`]).
     GrblDefault,
 }
 
@@ -76,10 +81,18 @@ impl Preset {
                 planner_blocks: 16,
                 tool_change_time: 0.0,
                 dwell_multiple: 0.05,
+                slowest_step_rate: GRBL_SLOWEST_STEP_RATE,
             },
         }
     }
 }
+
+/// GRBL 1.1h's slowest step, steps per second: with its step smoothing
+/// (AMASS) its timer ticks eight times a step, and a tick lasts at most
+/// 65,535 cycles of its 16 MHz clock, plus the one every tick adds (as the
+/// GRBL peer measures: a move below about 7.3 mm/min at 250 steps per mm
+/// takes 8 × 65,536 cycles a step).
+pub const GRBL_SLOWEST_STEP_RATE: f64 = 16_000_000.0 / (8.0 * 65_536.0);
 
 /// The numbers of a profile, without where they came from (serialised as
 /// `ger check --format json` reports them).
@@ -97,6 +110,8 @@ pub struct Machine {
     pub tool_change_time: f64,
     /// Seconds; 0 for dwells as programmed.
     pub dwell_multiple: f64,
+    /// Steps per second of the axis that steps most; 0 for none.
+    pub slowest_step_rate: f64,
 }
 
 impl Machine {
@@ -143,6 +158,7 @@ impl MotionConfig {
         machine.planner_blocks = keys.planner_blocks.map_or(machine.planner_blocks, |n| n as usize);
         machine.tool_change_time = keys.tool_change_time.unwrap_or(machine.tool_change_time);
         machine.dwell_multiple = keys.dwell_multiple.unwrap_or(machine.dwell_multiple);
+        machine.slowest_step_rate = keys.slowest_step_rate.unwrap_or(machine.slowest_step_rate);
         MotionProfile { machine, preset, grbl_settings: self.grbl_settings.clone(), configured }
     }
 
@@ -173,6 +189,7 @@ impl MotionConfig {
         number("arc_tolerance", self.arc_tolerance, limits.arc_tolerance, unit)?;
         number("tool_change_time", self.tool_change_time, (0.0, MAX_TOOL_CHANGE_TIME), "seconds")?;
         number("dwell_multiple", self.dwell_multiple, (0.0, MAX_DWELL_MULTIPLE), "seconds")?;
+        number("slowest_step_rate", self.slowest_step_rate, (0.0, MAX_STEP_RATE), "steps per second")?;
         if self.planner_blocks.is_some_and(|n| !(2..=MAX_PLANNER_BLOCKS).contains(&n)) {
             let message = format!("[machine.motion] planner_blocks must be from 2 to {MAX_PLANNER_BLOCKS}");
             return Err(at(&key("planner_blocks"), message));
@@ -187,6 +204,8 @@ pub const MAX_PLANNER_BLOCKS: u32 = 1024;
 /// A tool change longer than an hour is a pause, not a change.
 const MAX_TOOL_CHANGE_TIME: f64 = 3600.0;
 const MAX_DWELL_MULTIPLE: f64 = 10.0;
+/// Step generators run up to a few MHz.
+const MAX_STEP_RATE: f64 = 10_000_000.0;
 
 /// What a profile's numbers may be, in one unit.
 struct Limits {
