@@ -41,17 +41,16 @@ pub fn sweep(start: [f64; 3], centre: [f64; 2], end: [f64; 3], clockwise: bool) 
 }
 
 /// The arc as lines no further than `tolerance` from it, ending exactly at
-/// `end`, as the controller reads its turn ([`sweep`]): see
+/// `end`, turning `turn` radians (positive) the way the arc goes: see
 /// [`ger_core::geom::arc_as_lines`]. At most `most` lines.
 pub fn as_lines(
     start: [f64; 3],
     centre: [f64; 2],
     end: [f64; 3],
-    clockwise: bool,
+    (turn, clockwise): (f64, bool),
     tolerance: f64,
     most: usize,
 ) -> Vec<[f64; 3]> {
-    let turn = sweep(start, centre, end, clockwise);
     let signed = if clockwise { -turn } else { turn };
     ger_core::geom::arc_as_lines(start, centre, end, signed, tolerance, most)
 }
@@ -60,6 +59,7 @@ pub fn as_lines(
 mod tests {
     use super::*;
     use crate::profile::GRBL;
+    use std::f64::consts::PI;
 
     fn check() -> ArcCheck {
         GRBL.arc_check.unwrap()
@@ -102,7 +102,7 @@ mod tests {
     fn lines_stay_within_tolerance_and_end_at_the_end() {
         // A half circle of radius 10 at 0.002: each chord may turn 2 acos(1 - 0.0002) = 0.040000 rad,
         // so pi / 0.04 = 78.5 -> 79 lines.
-        let lines = as_lines([10.0, 0.0, 0.0], [0.0, 0.0], [-10.0, 0.0, -1.0], false, 0.002, 10_000);
+        let lines = as_lines([10.0, 0.0, 0.0], [0.0, 0.0], [-10.0, 0.0, -1.0], (PI, false), 0.002, 10_000);
         assert_eq!(lines.len(), 79);
         assert_eq!(*lines.last().unwrap(), [-10.0, 0.0, -1.0]);
         let mut previous = [10.0, 0.0, 0.0];
@@ -122,12 +122,12 @@ mod tests {
     #[test]
     fn an_end_off_the_circle_makes_a_spiral() {
         // Radius 1 at the start, 1.01 at the end, a quarter turn clockwise: the radius grows evenly.
-        let lines = as_lines([1.0, 0.0, 0.0], [0.0, 0.0], [0.0, -1.01, 0.0], true, 0.002, 100);
+        let lines = as_lines([1.0, 0.0, 0.0], [0.0, 0.0], [0.0, -1.01, 0.0], (PI / 2.0, true), 0.002, 100);
         let n = lines.len();
         let middle = lines[n / 2 - 1];
         let t = (n / 2) as f64 / n as f64;
         assert!((middle[0].hypot(middle[1]) - (1.0 + 0.01 * t)).abs() < 1e-9);
         assert!(middle[1] < 0.0);
-        assert_eq!(as_lines([1.0, 0.0, 0.0], [0.0, 0.0], [0.0, -1.01, 0.0], true, 1e-9, 5).len(), 5);
+        assert_eq!(as_lines([1.0, 0.0, 0.0], [0.0, 0.0], [0.0, -1.01, 0.0], (PI / 2.0, true), 1e-9, 5).len(), 5);
     }
 }

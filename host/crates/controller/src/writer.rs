@@ -2,11 +2,13 @@
 //! lines its controller takes, through ger's emitter.
 
 use std::collections::HashSet;
+use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 
 use ger_core::config::{Config, TargetConfig};
 use ger_core::diag::Diagnostic;
 use ger_core::emit::{Emitter, Numbers};
+use ger_core::geom::arc_sweep;
 use ger_core::statement::{Kind, Machine, Motion, MotionMode, Plane, Statement, Units, Value};
 
 use crate::arcs;
@@ -290,30 +292,51 @@ impl Writer {
             written_start[0] + centre_word(a, &|v| self.as_read(v)),
             written_start[1] + centre_word(b, &|v| self.as_read(v)),
         ];
-        let meant = arcs::sweep(start, centre, end, clockwise);
+        // What ger means by the arc (LinuxCNC's reading), and what GRBL reads in the written words.
+        let (_, meant) = arc_sweep((start[0], start[1]), (end[0], end[1]), (centre[0], centre[1]), !clockwise);
+        let meant = meant.abs();
         let read = arcs::sweep(written_start, written_centre, written_end, clockwise);
         let mm_per_unit = self.units.factor_to(Units::Mm);
-        if read == std::f64::consts::TAU && meant < std::f64::consts::PI {
+        if read == TAU && meant < PI {
             // ger's arc is short enough that its end rounds onto its start: a line is within rounding of it.
             let line = Motion { mode: Some(MotionMode::Linear), centre: Default::default(), radius: None, ..m.clone() };
             return self.plain(statement, &line, out, notes);
         }
-        if !arcs::refused(&check, written_start, written_centre, written_end, mm_per_unit) {
+        // ger's arc goes (almost) all the way round, and its written end
+        // rounds to just past its start: GRBL would turn a sliver.
+        let turns_short = meant > PI && read < PI;
+        let refused = arcs::refused(&check, written_start, written_centre, written_end, mm_per_unit);
+        if !turns_short && !refused {
             return self.plain(statement, m, out, notes);
         }
         // Lines within the arc tolerance GRBL itself cuts arcs to ($12 = 0.002 mm).
         let tolerance = 0.002 / mm_per_unit;
-        let points =
-            arcs::as_lines(written_start, written_centre, written_end, clockwise, tolerance, MOST_LINES_PER_ARC);
-        let why = format!(
-            "an arc whose end is {} off its circle is written as lines: GRBL refuses it (error:33)",
-            describe_length(
-                ((written_end[0] - written_centre[0]).hypot(written_end[1] - written_centre[1])
-                    - (written_start[0] - written_centre[0]).hypot(written_start[1] - written_centre[1]))
-                .abs(),
-                self.units
-            )
+        let turn = if turns_short { meant } else { read };
+        let points = arcs::as_lines(
+            written_start,
+            written_centre,
+            written_end,
+            (turn, clockwise),
+            tolerance,
+            MOST_LINES_PER_ARC,
         );
+        let why = if turns_short {
+            format!(
+                "an arc turning {:.1} degrees whose end rounds to just past its start is written as lines: GRBL would turn {:.4} degrees",
+                meant.to_degrees(),
+                read.to_degrees()
+            )
+        } else {
+            format!(
+                "an arc whose end is {} off its circle is written as lines: GRBL refuses it (error:33)",
+                describe_length(
+                    ((written_end[0] - written_centre[0]).hypot(written_end[1] - written_centre[1])
+                        - (written_start[0] - written_centre[0]).hypot(written_start[1] - written_centre[1]))
+                    .abs(),
+                    self.units
+                )
+            )
+        };
         self.note(statement, "arc", &why, out, notes);
         for (i, point) in points.iter().enumerate() {
             let mut target = ger_core::statement::Axes::default();

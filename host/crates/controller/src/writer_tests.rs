@@ -144,6 +144,30 @@ fn grbl_writes_as_lines_an_arc_it_would_refuse() {
     assert_eq!(lines_of("G01 X0 Y0 F100\nG02 X10 Y0 I5.002 J0\n"), "G01 X0 Y0 F100\nG02 X10 Y0 I5.002 J0\n");
 }
 
+#[test]
+fn grbl_gets_lines_for_a_full_circle_whose_end_rounds_past_its_start() {
+    // Clockwise round the origin from (10, 0.0494) to the point on the same ray 1.0004 times as far:
+    // LinuxCNC and ger turn a full circle, spiralling out by 0.004 mm. Written to 0.001, the start's
+    // angle is 0.049/10 = 4.9000e-3 rad and the end's 0.049/10.004 = 4.8980e-3: 2e-6 rad ahead of the
+    // start the clockwise way, which GRBL turns as a sliver (its full-circle epsilon is 5e-7 rad).
+    let (text, notes) = output("\"grbl\"", "G01 X10 Y0.0494 F100\nG02 X10.004 Y0.04941976 I-10 J-0.0494\n");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "G01 X10 Y0.049 F100");
+    assert!(
+        lines[1].starts_with("(an arc turning 360.0 degrees whose end rounds to just past its start"),
+        "{}",
+        lines[1]
+    );
+    assert_eq!(notes.len(), 1);
+    assert_eq!(*lines.last().unwrap(), "G01 X10.004 Y0.049");
+    // All the way round at 0.002 mm: 2 acos(1 - 0.002/10.004) = 0.039991 rad a line, 2 pi / 0.039991 =
+    // 157.1, so 158 lines; a quarter of the way, clockwise from +X, the tool is below the centre.
+    assert_eq!(lines.len(), 2 + 158);
+    let quarter = lines[2 + 158 / 4];
+    let y: f64 = quarter.split(' ').find(|w| w.starts_with('Y')).unwrap()[1..].parse().unwrap();
+    assert!(y < -9.9, "{quarter}");
+}
+
 fn lines_of(program: &str) -> String {
     lines("\"grbl\"", program)
 }

@@ -57,22 +57,24 @@ pub fn centre_from_radius(
     Ok((mid.0 + side * height * nx, mid.1 + side * height * ny))
 }
 
+/// An end this close to its start's angle (radians) on the side the arc
+/// turns towards is at it: rounding, not an arc of its own.
+const SAME_ANGLE: f64 = 1e-9;
+
 /// Where an arc about `centre` starts (radians from the plane's first axis)
-/// and how far it turns (positive counter-clockwise) to reach `end`. Start
-/// and end at the same point make a full circle.
+/// and how far it turns (positive counter-clockwise) to reach `end`. An end
+/// at the start's angle makes a full circle, as LinuxCNC turns one: whether
+/// it is the start itself or off it along the radius (a spiral's end), or
+/// past it by rounding ([`SAME_ANGLE`]).
 pub fn arc_sweep(start: (f64, f64), end: (f64, f64), centre: (f64, f64), ccw: bool) -> (f64, f64) {
     use std::f64::consts::TAU;
     let radius = (start.0 - centre.0).hypot(start.1 - centre.1);
     let from = (start.1 - centre.1).atan2(start.0 - centre.0);
     let to = (end.1 - centre.1).atan2(end.0 - centre.0);
     let closed = (start.0 - end.0).hypot(start.1 - end.1) <= 1e-9 * radius.max(1.0);
-    let sweep = match (closed, ccw) {
-        (true, true) => TAU,
-        (true, false) => -TAU,
-        (false, true) => (to - from).rem_euclid(TAU),
-        (false, false) => -(from - to).rem_euclid(TAU),
-    };
-    (from, sweep)
+    let turn = if ccw { to - from } else { from - to }.rem_euclid(TAU);
+    let turn = if closed || turn <= SAME_ANGLE { TAU } else { turn };
+    (from, if ccw { turn } else { -turn })
 }
 
 /// An arc as lines no further than `tolerance` from it, from `start` (not
@@ -150,6 +152,25 @@ mod tests {
         assert!((arc_sweep((1.0, 0.0), (0.0, 1.0), (0.0, 0.0), false).1 + 3.0 * FRAC_PI_2).abs() < 1e-12);
         assert!((arc_sweep((1.0, 0.0), (-1.0, 0.0), (0.0, 0.0), true).1 - PI).abs() < 1e-12);
         assert_eq!(arc_sweep((1.0, 0.0), (1.0, 0.0), (0.0, 0.0), false).1, -TAU);
+    }
+
+    #[test]
+    fn an_end_at_the_starts_angle_makes_a_full_circle() {
+        use std::f64::consts::TAU;
+        // From 7.063 below the centre to 7.062 below it: the end is off the
+        // start along the radius, at its angle. LinuxCNC turns a full
+        // circle (spiralling in by 0.001); so does GRBL.
+        assert_eq!(arc_sweep((0.0, -7.063), (0.0, -7.062), (0.0, 0.0), true).1, TAU);
+        assert_eq!(arc_sweep((0.0, -7.063), (0.0, -7.064), (0.0, 0.0), false).1, -TAU);
+        // Past the start by rounding, either way round.
+        let (sin, cos) = (1e-12f64).sin_cos();
+        assert_eq!(arc_sweep((2.0, 0.0), (2.0 * cos, 2.0 * sin), (0.0, 0.0), true).1, TAU);
+        assert_eq!(arc_sweep((2.0, 0.0), (2.0 * cos, -2.0 * sin), (0.0, 0.0), false).1, -TAU);
+        // Short of the start by as little: all but a full circle.
+        assert!(TAU - arc_sweep((2.0, 0.0), (2.0 * cos, -2.0 * sin), (0.0, 0.0), true).1 < 1e-11);
+        // A microradian past it is a short arc of its own.
+        let (sin, cos) = (1e-6f64).sin_cos();
+        assert!((arc_sweep((2.0, 0.0), (2.0 * cos, 2.0 * sin), (0.0, 0.0), true).1 - 1e-6).abs() < 1e-12);
     }
 
     #[test]

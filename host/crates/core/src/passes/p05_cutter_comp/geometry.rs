@@ -7,6 +7,7 @@
 
 use std::f64::consts::{PI, TAU};
 
+use crate::geom::arc_sweep;
 use crate::statement::Side;
 
 /// Below this, a length is rounding noise (machine units are inches or mm).
@@ -67,17 +68,10 @@ pub struct TooTight {
 
 impl Segment {
     /// The arc from `start` to `end` about `centre`; a full circle when the
-    /// two ends are the same point.
+    /// end is at the start's angle (see [`arc_sweep`]).
     pub fn arc(start: Point, end: Point, centre: Point, ccw: bool) -> Segment {
-        let turn = (end - centre).to_angle() - (start - centre).to_angle();
-        let sweep = if start.distance(end) <= NOISE {
-            TAU
-        } else if ccw {
-            turn.rem_euclid(TAU)
-        } else {
-            (-turn).rem_euclid(TAU)
-        };
-        Segment::Arc { start, end, centre, ccw, sweep }
+        let (_, sweep) = arc_sweep(start.into(), end.into(), centre.into(), ccw);
+        Segment::Arc { start, end, centre, ccw, sweep: sweep.abs() }
     }
 
     pub fn start(&self) -> Point {
