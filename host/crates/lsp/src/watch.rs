@@ -88,7 +88,8 @@ pub trait Follower {
     fn watched(&self) -> Vec<Watched>;
     /// Watches what `program` reads (see [`Folders::add`]).
     fn watch(&self, program: &Watched) -> Vec<PathBuf>;
-    /// These files changed (canonical paths).
+    /// These files changed (canonical paths); those no open program reads
+    /// are passed over.
     fn files_changed(&self, paths: &[PathBuf]);
     fn stopping(&self) -> bool;
 }
@@ -96,8 +97,7 @@ pub trait Follower {
 /// Follows `follower`'s files on the calling thread until it stops.
 pub fn follow(follower: &dyn Follower, events: &Events) {
     while !follower.stopping() {
-        let watched = follower.watched();
-        let appeared: Vec<PathBuf> = watched.iter().flat_map(|w| follower.watch(w)).collect();
+        let appeared: Vec<PathBuf> = follower.watched().iter().flat_map(|w| follower.watch(w)).collect();
         if !appeared.is_empty() {
             follower.files_changed(&appeared);
         }
@@ -115,7 +115,9 @@ pub fn follow(follower: &dyn Follower, events: &Events) {
                 paths.extend(named.iter().map(|p| canonical_path(p)));
             }
         }
-        if paths.iter().any(|path| watched.iter().any(|w| w.reads(path))) {
+        // Judged by the follower against the programs open now, not those
+        // of the loop's start: one opened since may read these files.
+        if !paths.is_empty() {
             follower.files_changed(&paths);
         }
     }
@@ -140,5 +142,53 @@ mod tests {
         assert!(!w.reads(Path::new("/p/part.nc")));
         assert!(!w.reads(Path::new("/p/wizards/pocket/src/lib.rs")));
         assert!(!w.reads(Path::new("/q/ger.toml")));
+    }
+
+    /// A follower with no program open until the watching thread has
+    /// started waiting for events, as when an editor opens a program and
+    /// saves a wizard beside it within the thread's first wait.
+    struct OpenedLate {
+        asked: std::sync::Mutex<Option<mpsc::Sender<()>>>,
+        changed: mpsc::Sender<Vec<PathBuf>>,
+        stopping: std::sync::atomic::AtomicBool,
+    }
+
+    impl Follower for OpenedLate {
+        fn watched(&self) -> Vec<Watched> {
+            // The first call finds nothing open and says so.
+            if let Some(asked) = self.asked.lock().unwrap().take() {
+                asked.send(()).unwrap();
+            }
+            Vec::new()
+        }
+        fn watch(&self, _: &Watched) -> Vec<PathBuf> {
+            Vec::new()
+        }
+        fn files_changed(&self, paths: &[PathBuf]) {
+            self.changed.send(paths.to_vec()).unwrap();
+        }
+        fn stopping(&self) -> bool {
+            self.stopping.load(std::sync::atomic::Ordering::SeqCst)
+        }
+    }
+
+    #[test]
+    fn a_change_just_after_a_program_opens_reaches_the_follower() {
+        let (asked_tx, asked) = mpsc::channel();
+        let (changed_tx, changed) = mpsc::channel();
+        let follower =
+            OpenedLate { asked: std::sync::Mutex::new(Some(asked_tx)), changed: changed_tx, stopping: false.into() };
+        let (events_tx, events) = mpsc::channel();
+        let follower = &follower;
+        std::thread::scope(|scope| {
+            scope.spawn(move || follow(follower, &events));
+            asked.recv().unwrap();
+            let wizard = PathBuf::from("/p/wizards/bc.wasm");
+            let event = Event::new(EventKind::Create(notify::event::CreateKind::File)).add_path(wizard.clone());
+            events_tx.send(Ok(event)).unwrap();
+            let reported = changed.recv_timeout(Duration::from_secs(10));
+            follower.stopping.store(true, std::sync::atomic::Ordering::SeqCst);
+            assert_eq!(reported, Ok(vec![wizard]));
+        });
     }
 }
