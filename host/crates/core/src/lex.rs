@@ -444,6 +444,12 @@ impl<R: BufRead> Lexer<R> {
                         pos = end;
                     } else if letters >= 2 && is_control_flow(&text[pos..pos + name_len]) {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
+                    } else if let Some(meant) = letter_o_for_zero(&text[pos..pos + name_len]) {
+                        let name = &text[pos..pos + name_len];
+                        let message = format!("`{name}` has the letter O where a zero is meant");
+                        let diagnostic =
+                            Diagnostic::error(self.span(pos, name_len), message).with_help(format!("write {meant}"));
+                        pos = self.refuse_expression(text, pos, diagnostic);
                     } else if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
                         self.push_token(TokenKind::Ident(name), pos, name_len);
@@ -886,6 +892,17 @@ fn is_argument_expression(rest: &str) -> bool {
 }
 
 /// Whether `rest` starts with a function's name and `[`: `SIN[30]`.
+/// A G or M code typed with the letter O for a zero (`GOO`, `G0O`, `MO3`),
+/// as it was meant; not a lone `GO`, which may be a wizard's name.
+fn letter_o_for_zero(name: &str) -> Option<String> {
+    let (first, rest) = name.split_at(1);
+    let code = first.eq_ignore_ascii_case("G") || first.eq_ignore_ascii_case("M");
+    let digits_or_o = rest.chars().all(|c| c.is_ascii_digit() || c.eq_ignore_ascii_case(&'O'));
+    let os = rest.chars().filter(|c| c.eq_ignore_ascii_case(&'O')).count();
+    (code && digits_or_o && os >= 1 && rest.len() >= 2)
+        .then(|| format!("{}{}", first.to_ascii_uppercase(), rest.replace(['O', 'o'], "0")))
+}
+
 fn is_function_value(rest: &str) -> bool {
     let letters = rest.bytes().take_while(u8::is_ascii_alphabetic).count();
     letters >= 2 && expr::is_function(&rest[..letters]) && rest[letters..].trim_start().starts_with('[')
@@ -1150,6 +1167,22 @@ mod tests {
             ]
         );
         assert_eq!(tokens("Pocket 7 X1")[2], "1:10: error: wizard argument `X1` is neither a number nor a \"string\"");
+    }
+
+    #[test]
+    fn a_code_typed_with_the_letter_o_for_a_zero_is_refused_with_the_code_meant() {
+        let refused = lex_str("GOO Z.500 (clear)\nmO3 S1000\nG0O X1\n").filter_map(|item| match item {
+            Lexed::Diagnostic(d) => Some((d.span.line, d.message, d.help)),
+            _ => None,
+        });
+        let refused: Vec<_> = refused.collect();
+        assert_eq!(refused.len(), 3, "{refused:?}");
+        assert_eq!(refused[0].1, "`GOO` has the letter O where a zero is meant");
+        assert_eq!(refused[0].2.as_deref(), Some("write G00"));
+        assert_eq!((refused[1].0, refused[1].2.as_deref()), (2, Some("write M03")));
+        assert_eq!((refused[2].0, refused[2].2.as_deref()), (3, Some("write G00")));
+        // A wizard may be called Go; GOTO is control flow.
+        assert_eq!(tokens("Go 5")[0], "1:1+2 ident Go");
     }
 
     #[test]
