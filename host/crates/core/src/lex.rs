@@ -412,6 +412,10 @@ impl<R: BufRead> Lexer<R> {
                 b'%' if first_on_line && text[pos + 1..].trim().is_empty() => pos = bytes.len(),
                 // A tape marker followed by a name or comment (`%PART1`), as Fanuc reads it.
                 b'%' if first_on_line && self.lenient => pos = bytes.len(),
+                // LinuxCNC's spindle selection (`M3 $0 S1000`, `M5 $-1`), not GRBL's `$0=10`.
+                b'$' if self.lenient && is_spindle_selection(&text[pos + 1..]) => {
+                    pos = self.spindle_selection(text, pos)
+                }
                 // GRBL's system commands (`$H`, `$X`, `$32=1`): not G-code, and not sent to any other controller.
                 b'$' if first_on_line && self.lenient => {
                     let command = text[pos..].trim_end();
@@ -446,9 +450,9 @@ impl<R: BufRead> Lexer<R> {
                         pos = self.refuse_rest_of_line(text, pos, ControlFlow);
                     } else if let Some(meant) = letter_o_for_zero(&text[pos..pos + name_len]) {
                         let name = &text[pos..pos + name_len];
-                        let message = format!("`{name}` has the letter O where a zero is meant");
-                        let diagnostic =
-                            Diagnostic::error(self.span(pos, name_len), message).with_help(format!("write {meant}"));
+                        let message = format!("`{name}` is no code: the letter O is typed for the digit zero");
+                        let help = format!("did you mean {meant}?");
+                        let diagnostic = Diagnostic::error(self.span(pos, name_len), message).with_help(help);
                         pos = self.refuse_expression(text, pos, diagnostic);
                     } else if letters >= 2 {
                         let name = text[pos..pos + name_len].to_string();
@@ -808,6 +812,20 @@ impl<R: BufRead> Lexer<R> {
         self.value_macro(text, start, start, Macro::Argument)
     }
 
+    /// `$n` at `start`: the spindle the line's spindle words are for. ger's
+    /// machine has one, LinuxCNC's spindle 0; `$-1` (all of them) is it too.
+    fn spindle_selection(&mut self, text: &str, start: usize) -> usize {
+        let len = 1 + number_len(&text[start + 1..]);
+        let number = &text[start + 1..start + len];
+        if !matches!(number.parse::<f64>(), Ok(n) if n == 0.0 || n == -1.0) {
+            let message = format!("`${number}` selects spindle {number}: ger's machine has one spindle, LinuxCNC's $0");
+            let diagnostic = Diagnostic::error(self.span(start, len), message)
+                .with_help("write $0, or leave the $ word out: a spindle word is for spindle 0 by default");
+            self.push_diag(diagnostic);
+        }
+        start + len
+    }
+
     fn wizard_number(&mut self, text: &str, start: usize) -> usize {
         let len = text[start..]
             .find(|c: char| c.is_whitespace() || c == ';' || c == '(' || c == '"')
@@ -892,6 +910,12 @@ fn is_argument_expression(rest: &str) -> bool {
 }
 
 /// Whether `rest` starts with a function's name and `[`: `SIN[30]`.
+/// Whether `rest` (after a `$`) is a spindle number, not a GRBL setting (`$0=10`).
+fn is_spindle_selection(rest: &str) -> bool {
+    let len = number_len(rest);
+    len > 0 && !rest[len..].trim_start().starts_with('=')
+}
+
 /// A G or M code typed with the letter O for a zero (`GOO`, `G0O`, `MO3`),
 /// as it was meant; not a lone `GO`, which may be a wizard's name.
 fn letter_o_for_zero(name: &str) -> Option<String> {
@@ -1045,7 +1069,15 @@ mod tests {
     use super::*;
 
     fn tokens(text: &str) -> Vec<String> {
-        lex_str(text)
+        shown(lex_str(text))
+    }
+
+    fn lenient_tokens(text: &str) -> Vec<String> {
+        shown(Lexer::in_dialect(text.as_bytes(), Dialect::Lenient))
+    }
+
+    fn shown(lexed: impl Iterator<Item = Lexed>) -> Vec<String> {
+        lexed
             .map(|item| match item {
                 Lexed::Token(t) => {
                     let s = t.span;
@@ -1170,6 +1202,18 @@ mod tests {
     }
 
     #[test]
+    fn linuxcnc_spindle_zero_is_the_spindle_and_no_other_is() {
+        assert_eq!(lenient_tokens("M3 $0 S1000"), ["1:1+2 M3", "1:7+5 S1000", "1:12+0 end"]);
+        assert_eq!(lenient_tokens("M5 $-1"), ["1:1+2 M5", "1:7+0 end"]);
+        assert_eq!(
+            lenient_tokens("M3 $1 S100")[1],
+            "1:4: error: `$1` selects spindle 1: ger's machine has one spindle, LinuxCNC's $0"
+        );
+        // GRBL's settings stay GRBL's.
+        assert!(lenient_tokens("$0=10")[0].contains("GRBL system command"), "{:?}", lenient_tokens("$0=10"));
+    }
+
+    #[test]
     fn a_code_typed_with_the_letter_o_for_a_zero_is_refused_with_the_code_meant() {
         let refused = lex_str("GOO Z.500 (clear)\nmO3 S1000\nG0O X1\n").filter_map(|item| match item {
             Lexed::Diagnostic(d) => Some((d.span.line, d.message, d.help)),
@@ -1177,10 +1221,10 @@ mod tests {
         });
         let refused: Vec<_> = refused.collect();
         assert_eq!(refused.len(), 3, "{refused:?}");
-        assert_eq!(refused[0].1, "`GOO` has the letter O where a zero is meant");
-        assert_eq!(refused[0].2.as_deref(), Some("write G00"));
-        assert_eq!((refused[1].0, refused[1].2.as_deref()), (2, Some("write M03")));
-        assert_eq!((refused[2].0, refused[2].2.as_deref()), (3, Some("write G00")));
+        assert_eq!(refused[0].1, "`GOO` is no code: the letter O is typed for the digit zero");
+        assert_eq!(refused[0].2.as_deref(), Some("did you mean G00?"));
+        assert_eq!((refused[1].0, refused[1].2.as_deref()), (2, Some("did you mean M03?")));
+        assert_eq!((refused[2].0, refused[2].2.as_deref()), (3, Some("did you mean G00?")));
         // A wizard may be called Go; GOTO is control flow.
         assert_eq!(tokens("Go 5")[0], "1:1+2 ident Go");
     }

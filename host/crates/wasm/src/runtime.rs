@@ -46,7 +46,7 @@ use ger_core::config::{self, ToolKind};
 use ger_core::diag::{clip, Diagnostic, Span};
 use ger_core::state::{CallState, Spindle};
 use ger_core::statement::{Distance, Plane, Units, WizardArg};
-use ger_core::wizard::{shown_name, wizard_help, Call, Expansion, Wizards, SHOWN_MESSAGE};
+use ger_core::wizard::{shown_name, Call, Expansion, Wizards, NO_WIZARD_HELP, SHOWN_MESSAGE};
 
 pub mod bindings {
     //! Rust types for `wit/wizard.wit`, host side.
@@ -420,15 +420,15 @@ impl WasmWizards {
         if !self.dir.is_dir() {
             // No wizards directory (the default one is often absent): as with no wizards at all.
             let message = format!("no wizard named `{shown}` to run this call");
-            return Err(Diagnostic::error(span, message).with_help(wizard_help(name)));
+            return Err(Diagnostic::error(span, message).with_help(NO_WIZARD_HELP));
         }
         let catalog = self.catalog().map_err(|err| Diagnostic::error(span, err.to_string()))?;
         let Some(entry) = catalog.find(name).cloned() else {
             let known = catalog.names().join(", ");
             let help = if known.is_empty() {
-                format!("{dir} has no wizards; {}", wizard_help(name))
+                format!("{dir} has no wizards; {NO_WIZARD_HELP}")
             } else {
-                format!("the wizards in {dir} are: {known}; {}", wizard_help(name))
+                format!("the wizards in {dir} are: {known}; {NO_WIZARD_HELP}")
             };
             return Err(Diagnostic::error(span, format!("no wizard named `{shown}` in {dir}")).with_help(help));
         };
