@@ -439,6 +439,8 @@ pub struct Interpreter<'a, L> {
     subs: HashMap<String, Rc<Sub>>,
     /// Lines read ahead to find a subroutine, to be run in their turn.
     ahead: VecDeque<Line>,
+    /// Lines taken from the lexer to find the main program, not read yet.
+    unread: VecDeque<Line>,
     limits: RunLimits,
     /// How many blocks loops and calls have run, against `limits.blocks`.
     blocks_run: u64,
@@ -473,6 +475,9 @@ pub struct Interpreter<'a, L> {
     from_files: HashMap<String, String>,
     /// The program's first line of code: an `O` number there is its name.
     first_code_line: Option<u32>,
+    /// The line whose `O` number names the main program, where the file's
+    /// first program is a subprogram and the main one follows it.
+    main_program: Option<u32>,
     /// The line and call level of the last error since a GOTO jumped back:
     /// a GOTO does not jump back over it again.
     last_error: Option<(u32, usize)>,
@@ -515,6 +520,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             frames: Vec::new(),
             subs: HashMap::new(),
             ahead: VecDeque::new(),
+            unread: VecDeque::new(),
             limits,
             blocks_run: 0,
             stop_loops: false,
@@ -533,6 +539,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             files: None,
             from_files: HashMap::new(),
             first_code_line: None,
+            main_program: None,
             local_lines: Vec::new(),
             ended: false,
             fadal_subroutines: false,
@@ -725,9 +732,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let mut words = line.words();
         let (letter, value, span) = words.next()?;
         let keyword = match letter {
-            'O' if self.first_code_line != Some(line.number()) && value >= 0.0 && value.fract() == 0.0 => {
-                Keyword::Program
-            }
+            'O' if !self.names_the_program(line.number()) && value >= 0.0 && value.fract() == 0.0 => Keyword::Program,
             _ if std::iter::once((letter, value, span)).chain(words).any(|(l, v, _)| l == 'M' && v == 99.0) => {
                 Keyword::EndProgram
             }
@@ -735,6 +740,48 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         };
         let label = if keyword == Keyword::Program { format!("O{}", value as u64) } else { String::new() };
         Some(Control { label, keyword, args: Vec::new(), span, fanuc: true })
+    }
+
+    /// Whether the `O` number on `line` is the main program's name, not
+    /// the head of a program it calls.
+    fn names_the_program(&self, line: u32) -> bool {
+        self.main_program.map_or(self.first_code_line == Some(line), |main| main == line)
+    }
+
+    /// A file of Fanuc programs may open with its subprograms and hold the
+    /// main program after them, as a listing of the programs a job loads
+    /// does (`O1000` ... `M99`, then `O0001` ... `M30`): a control runs
+    /// the program the operator selects, and the one to select is the first
+    /// that ends the run, with M30 or M2, not a return. The programs before
+    /// it are defined, as those after a main program are. Read ahead for it
+    /// (at most `MAIN_PROGRAM_LOOKAHEAD` lines) only when the first line of
+    /// code opens a program: unless that program ends with M99, it is the
+    /// main one.
+    fn find_main_program(&mut self) {
+        // The O line of the program read through, once the first has returned.
+        let mut after_a_return: Option<Option<u32>> = None;
+        for _ in 0..MAIN_PROGRAM_LOOKAHEAD {
+            let Some(line) = whole_line(&mut self.tokens, &mut self.line) else { break };
+            let opens = opens_a_program(&line).then(|| line.number());
+            let ends = line.words().find_map(|(letter, value, _)| match (letter, value) {
+                ('M', 99.0) => Some(false),
+                ('M', 30.0 | 2.0) => Some(true),
+                _ => None,
+            });
+            self.unread.push_back(line);
+            if let (Some(None), Some(_)) = (after_a_return, opens) {
+                after_a_return = Some(opens);
+            }
+            match (ends, after_a_return) {
+                (Some(true), Some(main @ Some(_))) => {
+                    self.main_program = main;
+                    return;
+                }
+                (Some(true), _) => return,
+                (Some(false), _) => after_a_return = Some(None),
+                (None, _) => {}
+            }
+        }
     }
 
     /// The call the running line is in, for its diagnostics.
@@ -1469,7 +1516,14 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
 
     /// The program's next line, read for the first time.
     fn next_line_from_program(&mut self) -> Option<Line> {
-        let line = whole_line(&mut self.tokens, &mut self.line)?;
+        let line = match self.unread.pop_front() {
+            Some(line) => line,
+            None => whole_line(&mut self.tokens, &mut self.line)?,
+        };
+        if self.fanuc_programs && self.first_code_line.is_none() && self.structure.is_empty() && opens_a_program(&line)
+        {
+            self.find_main_program();
+        }
         self.note(&line);
         Some(line)
     }
@@ -1862,6 +1916,15 @@ fn fadal_call(tokens: &[Token]) -> Option<(u32, u32, Span)> {
         }
         _ => None,
     }
+}
+
+/// How many lines a file's first program is read through for its end, to
+/// find whether it is a subprogram (`Interpreter::find_main_program`).
+const MAIN_PROGRAM_LOOKAHEAD: usize = 10_000;
+
+/// Whether a line opens a Fanuc program: it starts with a whole `O` number.
+fn opens_a_program(line: &Line) -> bool {
+    line.words().next().is_some_and(|(letter, value, _)| letter == 'O' && value >= 0.0 && value.fract() == 0.0)
 }
 
 /// Whether a line ends a program read as a block: M99, or M30 or M2.
@@ -2491,6 +2554,18 @@ mod tests {
             "G21 G90 F50\n#1 = 0\nWHILE [#1 LT 2] DO 1\n#1 = #1 + 1\nG01 X#1\nEND 1\nM30",
             "G21 G90 F50\nG01 X1\nX2\nM30",
         );
+    }
+
+    #[test]
+    fn a_file_that_opens_with_its_subprograms_runs_the_program_that_ends_with_m30() {
+        // Two subprograms (each ending with M99), then the main program, each framed by `%`.
+        same_as_twin(
+            "%\nO1000 (SQUARE)\nG91 G01 X10 F100\nY10\nG90\nM99\n%\n%\nO2000\nG00 Z5\nM99\n%\n\
+             %\nO0001 (MAIN)\nG21 G90\nG00 X0 Y0\nM98 P1000 L2\nM98 P2000\nG00 X50\nM30\n%",
+            "G21 G90\nG00 X0 Y0\nG91 G01 X10 F100\nY10\nG90\nG91 G01 X10\nY10\nG90\nG00 Z5\nG00 X50\nM30",
+        );
+        // A first program that ends the run is the main one: what follows is defined, run where called.
+        same_as_twin("O0001\nG21 G90 F100\nM98 P1000\nM30\nO1000\nG01 X5\nM99", "G21 G90 F100\nG01 X5\nM30");
     }
 
     #[test]
