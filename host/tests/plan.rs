@@ -20,6 +20,9 @@
 //! raised by `GER_PLAN_MOST_LINES` and `GER_PLAN_MOST_SECONDS`
 //! (`host/bench/plan-long.sh`): such a run takes only the corpus programs
 //! the default run leaves out, and its table is `tests/corpus/PLAN-LONG.md`.
+//! The longest take hours of gtime, more than one sitting has, so a run can
+//! also take only those of more than `GER_PLAN_LEAST_SECONDS`, a band whose
+//! table is `tests/corpus/PLAN-LONG-<least>s.md`.
 //!
 //! GRBL's clock runs from the first step to the last: ger's figure here is
 //! the same span (`planned.moving`), without a dwell before the first move
@@ -56,6 +59,8 @@ const TIGER_START: &str = "G17 G21 G90 G94 M3\nG0 Z5\nG0 X14.833 Y32.167\nG1 Z-2
 struct Scope {
     most_lines: usize,
     most_seconds: f64,
+    /// A long run's band starts past this (0: at the default's limits).
+    least_seconds: f64,
     long: bool,
 }
 
@@ -64,25 +69,27 @@ impl Scope {
         let read =
             |name: &str| std::env::var(name).ok().map(|v| v.parse::<f64>().unwrap_or_else(|_| panic!("{name}={v}")));
         let (lines, seconds) = (read("GER_PLAN_MOST_LINES"), read("GER_PLAN_MOST_SECONDS"));
+        let least = read("GER_PLAN_LEAST_SECONDS");
         Scope {
             most_lines: lines.map_or(MOST_LINES, |l| l as usize),
             most_seconds: seconds.unwrap_or(MOST_SECONDS),
-            long: lines.is_some() || seconds.is_some(),
+            least_seconds: least.unwrap_or(0.0),
+            long: lines.is_some() || seconds.is_some() || least.is_some(),
         }
     }
 
     /// Whether a corpus program of `lines` lines, planned to take `seconds`, is in.
     fn takes(&self, lines: usize, seconds: f64) -> bool {
-        let within = lines <= self.most_lines && seconds <= self.most_seconds;
+        let within = lines <= self.most_lines && seconds <= self.most_seconds && seconds > self.least_seconds;
         let by_default = lines <= MOST_LINES && seconds <= MOST_SECONDS;
         within && (by_default != self.long)
     }
 
-    fn table_file(&self) -> &'static str {
-        if self.long {
-            "tests/corpus/PLAN-LONG.md"
-        } else {
-            "tests/corpus/PLAN.md"
+    fn table_file(&self) -> String {
+        match (self.long, self.least_seconds) {
+            (false, _) => "tests/corpus/PLAN.md".into(),
+            (true, 0.0) => "tests/corpus/PLAN-LONG.md".into(),
+            (true, least) => format!("tests/corpus/PLAN-LONG-{least}s.md"),
         }
     }
 }
@@ -437,12 +444,20 @@ fn table(rows: &[Row], untimed: &[NotTimed], past: usize, scope: Scope) -> Strin
     let mut out = String::new();
     let _ = writeln!(out, "# ger's planned run time against GRBL's\n");
     let (command, programs) = if scope.long {
-        let Scope { most_lines, most_seconds, .. } = scope;
+        let Scope { most_lines, most_seconds, least_seconds, .. } = scope;
+        let (least_variable, least_words) = if least_seconds > 0.0 {
+            (format!("GER_PLAN_LEAST_SECONDS={least_seconds} "), format!("more than {least_seconds} s and "))
+        } else {
+            Default::default()
+        };
         (
-            format!("GER_PLAN_MOST_LINES={most_lines} GER_PLAN_MOST_SECONDS={most_seconds} host/bench/plan-long.sh"),
+            format!(
+                "{least_variable}GER_PLAN_MOST_LINES={most_lines} GER_PLAN_MOST_SECONDS={most_seconds} \
+                 host/bench/plan-long.sh"
+            ),
             format!(
                 "the corpus's mill programs that the test leaves out (over {MOST_LINES} lines or {MOST_SECONDS} s), \
-                 of at most {most_lines} lines that take at most {most_seconds} s"
+                 of at most {most_lines} lines that take {least_words}at most {most_seconds} s"
             ),
         )
     } else {
@@ -491,6 +506,13 @@ fn table(rows: &[Row], untimed: &[NotTimed], past: usize, scope: Scope) -> Strin
         );
     }
     let _ = writeln!(out, "\n## Not timed\n");
+    if scope.least_seconds > 0.0 {
+        let _ = writeln!(
+            out,
+            "The programs of at most {} s are in `PLAN-LONG.md`, those it refuses or that never move among them.\n",
+            scope.least_seconds
+        );
+    }
     if !scope.long {
         let _ = writeln!(
             out,
