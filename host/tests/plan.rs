@@ -59,8 +59,8 @@ const TIGER_START: &str = "G17 G21 G90 G94 M3\nG0 Z5\nG0 X14.833 Y32.167\nG1 Z-2
 struct Scope {
     most_lines: usize,
     most_seconds: f64,
-    /// A long run's band starts past this (0: at the default's limits).
-    least_seconds: f64,
+    /// A long run's band starts past this (none: at the default's limits).
+    least_seconds: Option<f64>,
     long: bool,
 }
 
@@ -73,14 +73,15 @@ impl Scope {
         Scope {
             most_lines: lines.map_or(MOST_LINES, |l| l as usize),
             most_seconds: seconds.unwrap_or(MOST_SECONDS),
-            least_seconds: least.unwrap_or(0.0),
+            least_seconds: least,
             long: lines.is_some() || seconds.is_some() || least.is_some(),
         }
     }
 
     /// Whether a corpus program of `lines` lines, planned to take `seconds`, is in.
     fn takes(&self, lines: usize, seconds: f64) -> bool {
-        let within = lines <= self.most_lines && seconds <= self.most_seconds && seconds > self.least_seconds;
+        let past_least = self.least_seconds.is_none_or(|least| seconds > least);
+        let within = lines <= self.most_lines && seconds <= self.most_seconds && past_least;
         let by_default = lines <= MOST_LINES && seconds <= MOST_SECONDS;
         within && (by_default != self.long)
     }
@@ -88,8 +89,8 @@ impl Scope {
     fn table_file(&self) -> String {
         match (self.long, self.least_seconds) {
             (false, _) => "tests/corpus/PLAN.md".into(),
-            (true, 0.0) => "tests/corpus/PLAN-LONG.md".into(),
-            (true, least) => format!("tests/corpus/PLAN-LONG-{least}s.md"),
+            (true, None) => "tests/corpus/PLAN-LONG.md".into(),
+            (true, Some(least)) => format!("tests/corpus/PLAN-LONG-{least}s.md"),
         }
     }
 }
@@ -445,10 +446,9 @@ fn table(rows: &[Row], untimed: &[NotTimed], past: usize, scope: Scope) -> Strin
     let _ = writeln!(out, "# ger's planned run time against GRBL's\n");
     let (command, programs) = if scope.long {
         let Scope { most_lines, most_seconds, least_seconds, .. } = scope;
-        let (least_variable, least_words) = if least_seconds > 0.0 {
-            (format!("GER_PLAN_LEAST_SECONDS={least_seconds} "), format!("more than {least_seconds} s and "))
-        } else {
-            Default::default()
+        let (least_variable, least_words) = match least_seconds {
+            Some(least) => (format!("GER_PLAN_LEAST_SECONDS={least} "), format!("more than {least} s and ")),
+            None => Default::default(),
         };
         (
             format!(
@@ -506,11 +506,10 @@ fn table(rows: &[Row], untimed: &[NotTimed], past: usize, scope: Scope) -> Strin
         );
     }
     let _ = writeln!(out, "\n## Not timed\n");
-    if scope.least_seconds > 0.0 {
+    if let Some(least) = scope.least_seconds {
         let _ = writeln!(
             out,
-            "The programs of at most {} s are in `PLAN-LONG.md`, those it refuses or that never move among them.\n",
-            scope.least_seconds
+            "The programs of at most {least} s are in `PLAN-LONG.md`, those it refuses or that never move among them.\n"
         );
     }
     if !scope.long {
