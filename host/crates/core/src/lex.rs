@@ -433,7 +433,13 @@ impl<R: BufRead> Lexer<R> {
                     pos = self.argument_expression(text, pos)
                 }
                 _ if in_wizard_args => pos = self.wizard_number(text, pos),
-                b'o' | b'O' if self.lenient && control::head(&text[pos..]).is_some() => pos = self.control(text, pos),
+                b'o' | b'O'
+                    if self.lenient
+                        && (control::head(&text[pos..]).is_some()
+                            || control::computed_call(text, pos, self.line_no).is_some()) =>
+                {
+                    pos = self.control(text, pos)
+                }
                 _ if c.is_ascii_alphabetic() => {
                     let name_len = bytes[pos..].iter().take_while(|b| b.is_ascii_alphanumeric() || **b == b'_').count();
                     let letters = bytes[pos..].iter().take_while(|b| b.is_ascii_alphabetic()).count();
@@ -465,6 +471,14 @@ impl<R: BufRead> Lexer<R> {
                 }
                 b'#' if self.lenient => pos = self.assignment(text, pos),
                 b'#' => pos = self.refuse_rest_of_line(text, pos, Parameters),
+                b'[' if self.lenient => {
+                    // rs274 says "Bad character '[' used": a value needs a word to take it.
+                    let len = text[pos..].find(']').map_or(1, |close| close + 1);
+                    let message = "an expression with no word to take its value";
+                    let help = "put the letter of the word it is the value of before it: X[#1 + 2]";
+                    let diagnostic = Diagnostic::error(self.span(pos, len), message).with_help(help);
+                    pos = self.refuse_expression(text, pos, diagnostic);
+                }
                 b'[' => pos = self.refuse_rest_of_line(text, pos, Expressions),
                 b'/' if first_on_line => {
                     self.push_token(TokenKind::BlockDelete, pos, 1);
@@ -688,12 +702,18 @@ impl<R: BufRead> Lexer<R> {
 
     /// An O-word control line: the rest of the line is its arguments.
     fn control(&mut self, text: &str, start: usize) -> usize {
-        let Some((label, keyword, after)) = control::head(&text[start..]) else { return start + 1 };
-        match control::arguments(text, start + after, self.line_no, keyword) {
+        let (label, computed, keyword, after) = match control::head(&text[start..]) {
+            Some((label, keyword, after)) => (label, None, keyword, start + after),
+            None => match control::computed_call(text, start, self.line_no) {
+                Some((number, after)) => (String::new(), Some(number), Keyword::Call, after),
+                None => return start + 1,
+            },
+        };
+        match control::arguments(text, after, self.line_no, keyword) {
             Ok((args, end)) => {
                 let span = self.span(start, end - start);
                 self.pending.push_back(Piece::Macro(
-                    Macro::Control(Control { label, keyword, args, span, fanuc: false }),
+                    Macro::Control(Control { label, keyword, args, span, fanuc: false, computed }),
                     span,
                 ));
                 end
@@ -725,8 +745,14 @@ impl<R: BufRead> Lexer<R> {
         };
         if let Some((number, len)) = end_loop {
             let span = self.span(start, len);
-            let control =
-                Control { label: number.to_string(), keyword: Keyword::EndWhile, args: Vec::new(), span, fanuc: true };
+            let control = Control {
+                label: number.to_string(),
+                keyword: Keyword::EndWhile,
+                args: Vec::new(),
+                span,
+                fanuc: true,
+                computed: None,
+            };
             self.pending.push_back(Piece::Macro(Macro::Control(control), span));
             return Some(start + len);
         }
@@ -756,6 +782,7 @@ impl<R: BufRead> Lexer<R> {
                         args: vec![condition],
                         span,
                         fanuc: true,
+                        computed: None,
                     };
                     Ok(Some((Macro::Control(control), span, after + letters)))
                 }
@@ -1211,6 +1238,14 @@ mod tests {
         );
         // GRBL's settings stay GRBL's.
         assert!(lenient_tokens("$0=10")[0].contains("GRBL system command"), "{:?}", lenient_tokens("$0=10"));
+    }
+
+    #[test]
+    fn a_lenient_expression_needs_a_word_to_take_it() {
+        let got = lenient_tokens("G1 X1 [2] (why)");
+        assert_eq!(got[..2], ["1:1+2 G1", "1:4+2 X1"]);
+        assert_eq!(got[2], "1:7: error: an expression with no word to take its value");
+        assert_eq!(got[3..], ["1:11+5 comment \"why\"", "1:16+0 end"]);
     }
 
     #[test]

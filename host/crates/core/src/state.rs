@@ -37,6 +37,8 @@ pub struct Snapshot {
     pub plane: Plane,
     pub feed: Option<f64>,
     pub spindle: Spindle,
+    /// The spindle speed last given, whether it turns or not.
+    pub speed: Option<f64>,
     /// The tool M06 last loaded (tool 1 until then).
     pub tool: u32,
     /// The work offset last selected: 1 for G54 to 9 for G59.3 (and on for
@@ -70,6 +72,7 @@ pub fn probe(machine_units: Units) -> Probe {
         plane: Plane::XY,
         feed: None,
         spindle: Spindle::Off,
+        speed: None,
         tool: 1,
         system: 1,
         work_offsets: [[0.0; 3]; COORDINATE_SYSTEMS],
@@ -124,6 +127,8 @@ pub struct Place {
     pub plane: Plane,
     pub feed: Option<f64>,
     pub spindle: Spindle,
+    /// The spindle speed last given, whether it turns or not.
+    pub speed: Option<f64>,
     pub tool: u32,
     /// The coordinate systems' origins in machine coordinates, and their
     /// rotations in degrees. These three are in the machine's units, not
@@ -150,6 +155,7 @@ impl Snapshot {
             plane: self.plane,
             feed: self.feed.map(|f| f * to_program),
             spindle: self.spindle,
+            speed: self.speed,
             tool: self.tool,
             work_offsets: self.work_offsets,
             rotations: self.rotations,

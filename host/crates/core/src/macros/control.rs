@@ -63,6 +63,9 @@ pub struct Control {
     pub span: Span,
     /// Fanuc macro B's `WHILE [c] DOm` or `ENDm`, labelled m.
     pub fanuc: bool,
+    /// A call's subroutine number, worked out when it runs: `o#<sub> call`,
+    /// `o[#2 * 10] call` (the label is then empty).
+    pub computed: Option<Expr>,
 }
 
 impl Control {
@@ -96,15 +99,17 @@ impl Control {
 /// The label and keyword at the start of `text` (which starts at the `o`),
 /// and where the keyword ends; `None` if this is not a control line.
 pub fn head(text: &str) -> Option<(String, Keyword, usize)> {
-    let rest = &text[1..];
+    // LinuxCNC reads past spaces here too: `o <probe> sub`.
+    let rest = text[1..].trim_start();
+    let label_at = text.len() - rest.len();
     let (label, after) = if let Some(named) = rest.strip_prefix('<') {
         let close = named.find('>')?;
         let name: String = named[..close].chars().filter(|c| !c.is_whitespace()).collect();
-        (name.to_ascii_lowercase(), 1 + 1 + close + 1)
+        (name.to_ascii_lowercase(), label_at + 1 + close + 1)
     } else {
         let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
         let number: u64 = rest[..digits].parse().ok()?;
-        (number.to_string(), 1 + digits)
+        (number.to_string(), label_at + digits)
     };
     let spaces = text[after..].len() - text[after..].trim_start().len();
     let start = after + spaces;
@@ -116,17 +121,38 @@ pub fn head(text: &str) -> Option<(String, Keyword, usize)> {
     Some((label, keyword, start + run))
 }
 
+/// `o#<sub> call` or `o[#2 * 10] call` at `start` in `text`: the number's
+/// expression and where `call` ends, LinuxCNC reading a numbered
+/// subroutine's number as any word's value; `None` if this is not one.
+pub fn computed_call(text: &str, start: usize, line: u32) -> Option<(Expr, usize)> {
+    let rest = text[start + 1..].trim_start();
+    if !rest.starts_with(['#', '[']) {
+        return None;
+    }
+    let mut reader = Reader::new(text, text.len() - rest.len(), line);
+    let number = reader.value().ok()?;
+    let rest = &text[reader.pos..];
+    let keyword = rest.trim_start();
+    let call = keyword.get(..4).filter(|word| word.eq_ignore_ascii_case("call"))?;
+    let after = &keyword[call.len()..];
+    (!after.starts_with(|c: char| c.is_ascii_alphanumeric())).then_some((number, text.len() - after.len()))
+}
+
 /// Reads a control line's arguments, from `pos` in `text` to the end of the
-/// line or a comment, for the keyword that takes them.
+/// line or a comment after the last, for the keyword that takes them.
 pub fn arguments(text: &str, pos: usize, line: u32, keyword: Keyword) -> Result<(Vec<Expr>, usize), Diagnostic> {
     let mut reader = Reader::new(text, pos, line);
     let mut args = Vec::new();
-    let at_end = |reader: &Reader| {
+    loop {
         let rest = text[reader.pos..].trim_start();
-        rest.is_empty() || rest.starts_with(['(', ';'])
-    };
-    while !at_end(&reader) {
-        args.push(reader.bracketed()?);
+        // LinuxCNC passes over a `(comment)` between arguments:
+        // `o<s> call [1] (depth) [2]` gives the sub both.
+        let after_comment = rest.strip_prefix('(').and_then(|c| c.find(')').map(|close| c[close + 1..].trim_start()));
+        match after_comment {
+            Some(next) if next.starts_with('[') => reader.pos = text.len() - next.len(),
+            _ if rest.is_empty() || rest.starts_with(['(', ';']) => break,
+            _ => args.push(reader.bracketed()?),
+        }
     }
     let (fewest, most) = match keyword {
         Keyword::Call => (0, 30),

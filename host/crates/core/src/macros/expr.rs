@@ -331,7 +331,7 @@ impl Expr {
 
 /// LinuxCNC compares for equality within this (its `TOLERANCE_EQUAL`);
 /// the other comparisons are exact, as rs274 makes them.
-const EQUAL_WITHIN: f64 = 0.0001;
+pub const EQUAL_WITHIN: f64 = 0.0001;
 
 /// The largest parameter number: LinuxCNC's last.
 pub const LAST_PARAMETER: u32 = 5602;

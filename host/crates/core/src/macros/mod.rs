@@ -93,7 +93,6 @@ fn reads_place(number: u32) -> bool {
 /// #4003 distance mode, #4006 units, #4014 work offset, #4109 F, #4119 S,
 /// #4120 T). Another of Fanuc's #4001-#4130 is an error: it is not kept.
 fn place_parameter(place: &crate::state::Place, number: u32, at: Span) -> Result<Option<f64>, Diagnostic> {
-    use crate::state::Spindle;
     use crate::statement::{Distance, Plane, Units};
     let axis = |first: u32| place.position[(number - first) as usize];
     let value = match number {
@@ -142,10 +141,7 @@ fn place_parameter(place: &crate::state::Place, number: u32, at: Span) -> Result
             _ => 54.1,
         },
         4109 => place.feed.unwrap_or(0.0),
-        4119 => match place.spindle {
-            Spindle::Clockwise(s) | Spindle::CounterClockwise(s) => s.unwrap_or(0.0),
-            Spindle::Off => 0.0,
-        },
+        4119 => place.speed.unwrap_or(0.0),
         4120 => f64::from(place.tool),
         n if FANUC_MODAL.contains(&n) => {
             let message = format!("#{n} is Fanuc's modal information, which ger does not keep for it");
@@ -158,8 +154,64 @@ fn place_parameter(place: &crate::state::Place, number: u32, at: Span) -> Result
     Ok(Some(value))
 }
 
-/// The same, by LinuxCNC's predefined names.
-const POSITION_NAMES: [&str; 3] = ["_x", "_y", "_z"];
+/// LinuxCNC's predefined named parameters that read where the program has
+/// got to: the position (`_x` to `_w`, the axes ger's machine lacks reading
+/// 0), F and S, the spindle, the units, the distance mode, the plane
+/// (`_plane` 170 for G17), the coordinate system (`_coord_system` 540 for
+/// G54, 591 for G59.1).
+const PLACE_NAMES: [&str; 19] = [
+    "_x",
+    "_y",
+    "_z",
+    "_a",
+    "_b",
+    "_c",
+    "_u",
+    "_v",
+    "_w",
+    "_feed",
+    "_rpm",
+    "_spindle_on",
+    "_spindle_cw",
+    "_metric",
+    "_imperial",
+    "_absolute",
+    "_incremental",
+    "_plane",
+    "_coord_system",
+];
+
+/// The value of one of [`PLACE_NAMES`], `None` for another name.
+fn place_named(place: &crate::state::Place, name: &str) -> Option<f64> {
+    use crate::state::Spindle;
+    use crate::statement::{Distance, Plane, Units};
+    let flag = |on: bool| f64::from(u8::from(on));
+    let value = match name {
+        "_x" => place.position[0],
+        "_y" => place.position[1],
+        "_z" => place.position[2],
+        "_a" | "_b" | "_c" | "_u" | "_v" | "_w" => 0.0,
+        "_feed" => place.feed.unwrap_or(0.0),
+        "_rpm" => place.speed.unwrap_or(0.0),
+        "_spindle_on" => flag(place.spindle != Spindle::Off),
+        "_spindle_cw" => flag(matches!(place.spindle, Spindle::Clockwise(_))),
+        "_metric" => flag(place.units == Units::Mm),
+        "_imperial" => flag(place.units == Units::Inch),
+        "_absolute" => flag(place.distance == Distance::Absolute),
+        "_incremental" => flag(place.distance == Distance::Incremental),
+        "_plane" => match place.plane {
+            Plane::XY => 170.0,
+            Plane::ZX => 180.0,
+            Plane::YZ => 190.0,
+        },
+        "_coord_system" => match place.system {
+            n @ 1..=6 => 530.0 + 10.0 * f64::from(n),
+            n => 590.0 + f64::from(n.saturating_sub(6)),
+        },
+        _ => return None,
+    };
+    Some(value)
+}
 
 impl Default for Store {
     fn default() -> Store {
@@ -250,8 +302,8 @@ impl Parameters for Store {
     }
 
     fn named(&self, name: &str) -> Option<f64> {
-        if let (Some(position), Some(axis)) = (&self.position, POSITION_NAMES.iter().position(|known| *known == name)) {
-            return Some(position().position[axis]);
+        if let Some(value) = self.position.as_ref().and_then(|position| place_named(&position(), name)) {
+            return Some(value);
         }
         if name.starts_with('_') {
             self.named.get(name).copied()
@@ -628,6 +680,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                         args: Vec::new(),
                         span,
                         fanuc: true,
+                        computed: None,
                     };
                 }
                 _ => return None,
@@ -696,7 +749,14 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let text = history.borrow().from_line(start);
         let mut pieces = Lexer::in_dialect(std::io::Cursor::new(text), Dialect::Lenient).starting_at(start).pieces();
         let mut partial = Line::default();
-        let head = Control { label: label.clone(), keyword: Keyword::Program, args: Vec::new(), span: at, fanuc: true };
+        let head = Control {
+            label: label.clone(),
+            keyword: Keyword::Program,
+            args: Vec::new(),
+            span: at,
+            fanuc: true,
+            computed: None,
+        };
         let lines = std::iter::from_fn(|| whole_line(&mut pieces, &mut partial));
         let sub = self.program_body(head, lines, &label).ok_or_else(not_found)?;
         self.subs.insert(label.clone(), sub);
@@ -717,6 +777,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 args: Vec::new(),
                 span,
                 fanuc: true,
+                computed: None,
             });
         }
         let in_fadal = inside.is_some_and(|block| block.keyword == Keyword::Program && block.label.starts_with('L'));
@@ -727,6 +788,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 args: Vec::new(),
                 span,
                 fanuc: true,
+                computed: None,
             });
         }
         let mut words = line.words();
@@ -739,7 +801,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             _ => return None,
         };
         let label = if keyword == Keyword::Program { format!("O{}", value as u64) } else { String::new() };
-        Some(Control { label, keyword, args: Vec::new(), span, fanuc: true })
+        Some(Control { label, keyword, args: Vec::new(), span, fanuc: true, computed: None })
     }
 
     /// Whether the `O` number on `line` is the main program's name, not
@@ -858,8 +920,8 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
                 system_parameter(number, span)?;
                 Target::Numbered(number)
             }
-            Param::Named(name) if self.store.position.is_some() && POSITION_NAMES.contains(&name.as_str()) => {
-                let message = format!("#<{name}> is the tool's position: it is read, not set");
+            Param::Named(name) if self.store.position.is_some() && PLACE_NAMES.contains(&name.as_str()) => {
+                let message = format!("#<{name}> is one of LinuxCNC's predefined parameters: it is read, not set");
                 return Err(Diagnostic::error(span, message));
             }
             Param::Named(name) => Target::Named(name.clone()),
@@ -1466,6 +1528,17 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
     }
 
     fn call(&mut self, control: &Control) {
+        let resolved;
+        let control = match &control.computed {
+            None => control,
+            Some(number) => match self.subroutine_number(number, control.span) {
+                Ok(label) => {
+                    resolved = Control { label, computed: None, ..control.clone() };
+                    &resolved
+                }
+                Err(diagnostic) => return self.error(diagnostic),
+            },
+        };
         if !self.subs.contains_key(&control.label)
             && !self.look_ahead_for(&control.label)
             && !self.subroutine_from_file(&control.label)
@@ -1500,6 +1573,17 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let kind = FrameKind::Call { origin, locals: locals_kept, remaining: 1, file };
         self.store.levels.push(locals);
         self.frames.push(Frame { body: sub.body.clone(), next: 0, kind });
+    }
+
+    /// The label of the numbered subroutine `number` works out to.
+    fn subroutine_number(&self, number: &Expr, at: Span) -> Result<String, Diagnostic> {
+        let value = self.evaluate(number, at)?;
+        let whole = value.round();
+        if (value - whole).abs() > expr::EQUAL_WITHIN || whole < 0.0 {
+            let message = format!("a subroutine's number must be whole and not negative, not {value}");
+            return Err(Diagnostic::error(at, message));
+        }
+        Ok(format!("{whole:.0}"))
     }
 
     /// The next line, whole: one read again after a GOTO, or the program's
@@ -2159,6 +2243,23 @@ mod tests {
             "#1 = 7\no100 sub\nG01 X#1 Y#2 Z#3 F10\n#1 = 9 #40 = 1\no100 return [#1 * 2]\nG01 X99\no100 endsub\n\
                        o100 call [3] [4]\nG01 X#1 Y#<_value> Z#40";
         assert_eq!(flat(program), ["G01 X3.000 Y4.000 Z0.000 F10.000", "G01 X7.000 Y18.000 Z1.000"]);
+        // A numbered subroutine's number may be worked out when it is called, as any value is.
+        let program = "#<sub> = 2\no1 sub\nG01 X1 F10\no1 endsub\no2 sub\nG01 X#1 F10\no2 endsub\n\
+                       o#<sub> call [5]\nO[#<sub> * 10 - 19] call\no[2.5] call\nG01 Y1";
+        assert_eq!(
+            flat(program),
+            [
+                "G01 X5.000 F10.000",
+                "G01 X1.000",
+                "11:1: error: a subroutine's number must be whole and not negative, not 2.5",
+                "G01 Y1.000"
+            ]
+        );
+        // LinuxCNC reads past spaces after the O, as everywhere outside comments.
+        assert_eq!(flat("o <probe> sub\nG01 X#1 F10\no <probe> endsub\nO 7 sub\nG01 Y#1\nO 7 endsub\no <probe> call [2]\no 7 call [3]"), ["G01 X2.000 F10.000", "G01 Y3.000"]);
+        // rs274 passes over a comment between arguments; one after them ends the line.
+        let program = "o1 sub\nG01 X#1 Y#2 Z#3 F10\no1 endsub\no1 call [1] (depth) [2] [3]\no1 call [4] [5] (not [6])";
+        assert_eq!(flat(program), ["G01 X1.000 Y2.000 Z3.000 F10.000", "G01 X4.000 Y5.000 Z0.000"]);
         // A named local of the caller is not seen in the call.
         let got = flat("#<here> = 1\no<show> sub\nG01 X#<here> F10\no<show> endsub\no<show> call");
         assert_eq!(got, ["4:6: error: the parameter #<here> is not set"]);
@@ -2526,11 +2627,35 @@ mod tests {
                 "G01 X16.000",
             ]
         );
-        assert_eq!(flat("#<_x> = 1"), ["2:1: error: #<_x> is the tool's position: it is read, not set"]);
+        assert_eq!(
+            flat("#<_x> = 1"),
+            ["2:1: error: #<_x> is one of LinuxCNC's predefined parameters: it is read, not set"]
+        );
         // #5220: the coordinate system in force, G54 being 1 and G59.3 9.
         assert_eq!(
             flat("G01 X#5220 F10\nG56\nG01 X#5220\nG59.3\nG01 X#5220"),
             ["G01 X1.000 F10.000", "G01 X3.000", "G01 X9.000"]
+        );
+    }
+
+    #[test]
+    fn linuxcnc_predefined_parameters_read_the_modes_the_passes_keep() {
+        // As rs274 reads them (LinuxCNC 2.9): F, S (kept when the spindle
+        // stops), the spindle, units, distance mode, plane, coordinate system.
+        let program = "G90 G55 G18 F123 M3 S4000\nG01 X#<_feed> Y#<_rpm> Z#<_spindle_on>\n\
+                       G01 X#<_spindle_cw> Y#<_metric> Z#<_imperial>\nG01 X#<_absolute> Y#<_incremental> Z#<_plane>\n\
+                       G01 X#<_coord_system> Y[#<_a> + #<_w>]\nM4\nG01 X#<_spindle_cw>\nM5\nG01 X#<_spindle_on> Y#<_rpm>";
+        let moves: Vec<String> = flat(program).into_iter().filter(|line| line.starts_with("G01")).collect();
+        assert_eq!(
+            moves,
+            [
+                "G01 X123.000 Y4000.000 Z1.000 F123.000",
+                "G01 X1.000 Y1.000 Z0.000",
+                "G01 X1.000 Y0.000 Z180.000",
+                "G01 X550.000 Y0.000",
+                "G01 X0.000",
+                "G01 X0.000 Y4000.000"
+            ]
         );
     }
 

@@ -89,6 +89,12 @@ pub(super) fn arrange(block: Vec<Group>, warnings: &mut Vec<Diagnostic>) -> Resu
             // of its own; so are Fadal's fixture offset (E1: G54) and its
             // tool length offset given with a move (H1 Z5.: G43 H1).
             None if matches!(letter, 'S' | 'T' | 'E' | 'H') => {
+                // `T11 T12`: which tool is meant? LinuxCNC refuses it too.
+                if alone.iter().any(|(_, group): &(u32, Group)| group.words[0].0 == letter) {
+                    let message = format!("{letter} appears twice in one block");
+                    let help = "a block takes each word once; start a new line for the second";
+                    return Err(Diagnostic::error(value.span, message).with_help(help));
+                }
                 let rank = match letter {
                     'S' => 50,
                     'T' => 60,

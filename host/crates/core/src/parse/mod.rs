@@ -944,7 +944,9 @@ fn motion(mode: Option<MotionMode>, words: &Words, dialect: Dialect) -> Result<M
         return Err(Diagnostic::error(r.span, "an arc takes either R or I/J/K, not both")
             .with_help("keep I/J/K (the centre, relative to the start) or R (the radius)"));
     }
-    if let Some(f) = motion.feed.filter(|f| f.value <= 0.0) {
+    // LinuxCNC takes F0 as a feed, and refuses a feed move made at it.
+    let least = if dialect == Dialect::Lenient { 0.0 } else { f64::MIN_POSITIVE };
+    if let Some(f) = motion.feed.filter(|f| f.value < least) {
         return Err(Diagnostic::error(f.span, "the feed rate must be greater than zero"));
     }
     // LinuxCNC reads F on a rapid as the feed for later moves; so does the lenient dialect.
@@ -1233,6 +1235,15 @@ mod tests {
         assert_eq!(got[0], "1:4 Distance(Absolute)");
         assert!(got[1].starts_with("1:1 Motion(Motion { mode: Some(Rapid), target: Axes { x: Some(Value { value: 1.0"));
         assert!(parsed_lenient("G0 G1 X1")[0].ends_with("G00 and G01 on one line: they are codes of the same group"));
+    }
+
+    #[test]
+    fn a_word_alone_in_its_statement_is_still_once_a_block() {
+        // rs274: "Multiple t words on one line". S, T, E and H each go to a
+        // statement of their own, but a block still says each once.
+        assert_eq!(parsed_lenient("T11 T12")[0], "1:5: error: T appears twice in one block");
+        assert_eq!(parsed_lenient("G0 X1 S100 S200")[0], "1:12: error: S appears twice in one block");
+        assert_eq!(parsed_lenient("T11 S100"), ["1:5 SpindleSpeed(100.0)", "1:1 ToolSelect(11)"]);
     }
 
     #[test]

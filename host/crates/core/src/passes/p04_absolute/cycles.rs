@@ -132,8 +132,9 @@ impl Absolute {
             CycleCode::Tap | CycleCode::TapLeft => p,
             _ => None,
         };
-        if self.feed.is_none() {
-            return Err(Diagnostic::error(statement.span, format!("{code} before any feed rate (F)"))
+        if self.feed.is_none_or(|feed| feed <= 0.0) {
+            let before = if self.feed.is_none() { "before any feed rate (F)" } else { "at a feed rate of zero (F0)" };
+            return Err(Diagnostic::error(statement.span, format!("{code} {before}"))
                 .with_help(format!("give the feed on the cycle, e.g. {code} ... F10")));
         }
         if self.cycles.retract.is_none() {

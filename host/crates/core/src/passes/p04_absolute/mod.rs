@@ -274,8 +274,12 @@ impl Absolute {
                     Diagnostic::error(span, format!("{code} in inverse time (G93) needs its own F"))
                         .with_help("in G93 every feed move says how fast it runs: F is one over its time in minutes")
                 })?;
+                if f.value <= 0.0 {
+                    return Err(zero_feed(code, span));
+                }
                 Ok(Feed::InverseTime(f.value))
             }
+            _ if self.feed == Some(0.0) => Err(zero_feed(code, span)),
             FeedMode::PerRevolution => {
                 let feed = self.feed.ok_or_else(|| no_feed(code, span))?;
                 match self.speed.filter(|s| *s > 0.0) {
@@ -358,6 +362,12 @@ enum Feed {
 
 fn no_feed(code: &str, span: Span) -> Diagnostic {
     Diagnostic::error(span, format!("{code} move before any feed rate (F)"))
+        .with_help(format!("give the feed on this move or before it, e.g. {code} ... F10"))
+}
+
+/// A feed move at F0, which LinuxCNC refuses too.
+fn zero_feed(code: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(span, format!("{code} move at a feed rate of zero (F0)"))
         .with_help(format!("give the feed on this move or before it, e.g. {code} ... F10"))
 }
 
@@ -550,6 +560,7 @@ impl Absolute {
                     *t = t.or(self.selected_tool.take());
                 }
                 let mut probe = self.probe.borrow_mut();
+                probe.speed = s.or(probe.speed);
                 match code {
                     Machine::SpindleCw => probe.spindle = Spindle::Clockwise(*s),
                     Machine::SpindleCcw => probe.spindle = Spindle::CounterClockwise(*s),
@@ -560,6 +571,7 @@ impl Absolute {
             }
             Kind::SpindleSpeed(speed) => {
                 self.speed = Some(*speed);
+                self.probe.borrow_mut().speed = self.speed;
                 // A new speed while the spindle turns is said with its direction.
                 let code = match self.probe.borrow().spindle {
                     Spindle::Clockwise(_) => Machine::SpindleCw,
@@ -820,6 +832,26 @@ G91 G02 I-10 Z-0.2 L3 F100",
                 "G01 X1.0000"
             ]
         );
+    }
+
+    #[test]
+    fn f0_is_a_feed_of_zero_that_no_feed_move_may_run_at() {
+        // As rs274: `F0` alone is taken; a feed move, an arc or a cycle at it is refused.
+        let lenient =
+            Config { dialect: crate::statement::Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let got = run_with("G21 F0 G64\nG00 X1\nG01 X2\nG02 X4 I1\nG81 X5 Z-1 R1\nF10\nG01 X3", &lenient, 4);
+        assert_eq!(
+            got,
+            [
+                "G00 X1.000",
+                "3:1: error: G01 move at a feed rate of zero (F0)",
+                "4:1: error: G02 move at a feed rate of zero (F0)",
+                "5:1: error: G81 at a feed rate of zero (F0)",
+                "G01 X3.000 F10.000"
+            ]
+        );
+        // The GER dialect keeps F a speed: zero is an error where it is written.
+        assert_eq!(run("F0", 4), ["1:1: error: the feed rate must be greater than zero"]);
     }
 
     #[test]
