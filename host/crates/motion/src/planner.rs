@@ -45,6 +45,8 @@ struct Block<T> {
     nominal: f64,
     /// The slowest the controller steps it, units per second.
     slowest: f64,
+    /// Steps of the axis that steps most, per unit along it.
+    steps_per_unit: f64,
     /// The most the entry speed may be (squared): the junction's, and neither block's nominal.
     max_entry_sqr: f64,
     /// The most it may be for the machine to stop at the end of the buffer (squared).
@@ -72,6 +74,12 @@ pub struct Planner<T> {
     min_feed: f64,
     /// The slowest the controller steps the axis that steps most, steps per second (0: any speed).
     slowest_step_rate: f64,
+    /// The step timer's clock, Hz (0: exact timing).
+    step_clock: f64,
+    /// The step timer of the machine standing after a stop.
+    standing: Option<Standing>,
+    /// The timer's period at the end of the last block run (0: not known).
+    last_period: f64,
     blocks: VecDeque<Block<T>>,
     /// The last block's direction and nominal speed, while the machine has not stopped since.
     previous: Option<(Point, f64)>,
@@ -103,6 +111,9 @@ impl<T> Planner<T> {
             capacity: machine.planner_blocks.saturating_sub(1).max(1),
             min_feed: min_feed / 60.0,
             slowest_step_rate: machine.slowest_step_rate,
+            step_clock: machine.step_clock,
+            standing: None,
+            last_period: 0.0,
             blocks: VecDeque::with_capacity(machine.planner_blocks),
             previous: None,
             clock: 0.0,
@@ -158,6 +169,7 @@ impl<T> Planner<T> {
             acceleration,
             nominal,
             slowest,
+            steps_per_unit: steps / length,
             max_entry_sqr,
             braking_sqr: 0.0,
             entry_sqr: max_entry_sqr,
@@ -169,10 +181,16 @@ impl<T> Planner<T> {
 
     /// Runs every block in the buffer to a stop.
     pub fn stop(&mut self, clock: &mut impl Clock<T>) {
+        if self.blocks.is_empty() {
+            return;
+        }
         while !self.blocks.is_empty() {
             self.execute_front(clock);
         }
         self.previous = None;
+        if self.last_period > 0.0 {
+            self.standing = Some(Standing { period: self.last_period, seconds: 0.0 });
+        }
     }
 
     /// Stops, then waits `seconds` (a dwell, a tool change).
@@ -181,6 +199,9 @@ impl<T> Planner<T> {
         if seconds > 0.0 {
             clock.tick(&tag, self.clock, seconds);
             self.clock += seconds;
+            if let Some(standing) = &mut self.standing {
+                standing.seconds += seconds;
+            }
         }
     }
 
@@ -235,11 +256,22 @@ impl<T> Planner<T> {
         // slower than its slowest step. A block asked slower than that runs
         // at that speed all along (its ramps are below it); in one asked
         // faster, what its ramps spend below it is a few microseconds.
-        let seconds = if block.nominal < block.slowest {
-            block.length / block.slowest
+        let shape = Trapezoid::new(block.length, block.acceleration, block.nominal, block.entry_sqr, exit_sqr);
+        let (mut seconds, period) = if block.nominal < block.slowest {
+            // The slowest step is a whole number of the timer's ticks already.
+            (block.length / block.slowest, 0.0)
+        } else if self.step_clock > 0.0 {
+            let late = shape.timer_ticks(block.steps_per_unit) / self.step_clock;
+            (shape.seconds() + late, shape.last_period(block.steps_per_unit, self.step_clock))
         } else {
-            trapezoid(block.length, block.acceleration, block.nominal, block.entry_sqr, exit_sqr)
+            (shape.seconds(), 0.0)
         };
+        // Started again after a stop, the step timer first runs out the
+        // period it was left with, as it went on counting meanwhile.
+        if let Some(standing) = self.standing.take() {
+            seconds += standing.period - standing.seconds % standing.period;
+        }
+        self.last_period = period;
         clock.tick(&block.tag, self.clock, seconds);
         let start = self.moving.map_or(self.clock, |(start, _)| start);
         self.clock += seconds;
@@ -260,20 +292,95 @@ fn limit(axes: [f64; 3], unit: Point) -> f64 {
     most
 }
 
-/// How long a block of `length` takes from an entry speed to an exit speed
-/// (both squared), accelerating and braking at `acceleration`, no faster
-/// than `nominal`.
-fn trapezoid(length: f64, acceleration: f64, nominal: f64, entry_sqr: f64, exit_sqr: f64) -> f64 {
-    let (entry, exit) = (entry_sqr.sqrt(), exit_sqr.sqrt());
-    let nominal_sqr = nominal * nominal;
-    let accelerating = (nominal_sqr - entry_sqr) / (2.0 * acceleration);
-    let braking = (nominal_sqr - exit_sqr) / (2.0 * acceleration);
-    if accelerating + braking <= length {
-        (nominal - entry) / acceleration + (nominal - exit) / acceleration + (length - accelerating - braking) / nominal
-    } else {
-        // Never reaches its speed: up to a peak, straight back down.
-        let peak_sqr = (acceleration * length + 0.5 * (entry_sqr + exit_sqr)).max(entry_sqr.max(exit_sqr));
-        let peak = peak_sqr.sqrt();
-        (peak - entry) / acceleration + (peak - exit) / acceleration
+/// The step timer of a machine standing after a stop.
+#[derive(Clone, Copy, Debug)]
+struct Standing {
+    /// Its period, seconds, as the last block left it.
+    period: f64,
+    /// How long the machine has stood (a dwell).
+    seconds: f64,
+}
+
+/// GRBL's step generator runs a block as segments of 10 ms, each at a
+/// steady step rate...
+const SEGMENT_SECONDS: f64 = 0.01;
+/// ...and each of at least 1.25 steps: a slow end makes its last one longer.
+const SEGMENT_LEAST_STEPS: f64 = 1.25;
+
+/// The ticks per step of GRBL's step smoothing (AMASS), from the step rate
+/// (steps per second of the axis that steps most) up: once a step from 8
+/// kHz, twice from 4 kHz, four times from 2 kHz, eight times below.
+const TICKS_PER_STEP: [(f64, f64); 4] = [(0.0, 8.0), (2000.0, 4.0), (4000.0, 2.0), (8000.0, 1.0)];
+
+fn ticks_per_step(rate: f64) -> f64 {
+    TICKS_PER_STEP.iter().rev().find(|(from, _)| rate >= *from).map_or(8.0, |t| t.1)
+}
+
+/// A block's speeds: up from its entry to its peak, on at the peak, down
+/// to its exit.
+struct Trapezoid {
+    entry: f64,
+    peak: f64,
+    exit: f64,
+    acceleration: f64,
+    /// The length run at the peak.
+    cruising: f64,
+}
+
+impl Trapezoid {
+    /// A block of `length` from an entry speed to an exit speed (both
+    /// squared), accelerating and braking at `acceleration`, no faster than
+    /// `nominal`.
+    fn new(length: f64, acceleration: f64, nominal: f64, entry_sqr: f64, exit_sqr: f64) -> Trapezoid {
+        let nominal_sqr = nominal * nominal;
+        let ramps = (2.0 * nominal_sqr - entry_sqr - exit_sqr) / (2.0 * acceleration);
+        let (peak_sqr, cruising) = if ramps <= length {
+            (nominal_sqr, length - ramps)
+        } else {
+            // Never reaches its speed: up to a peak, straight back down.
+            ((acceleration * length + 0.5 * (entry_sqr + exit_sqr)).max(entry_sqr.max(exit_sqr)), 0.0)
+        };
+        let (entry, peak, exit) = (entry_sqr.sqrt(), peak_sqr.sqrt(), exit_sqr.sqrt());
+        Trapezoid { entry, peak, exit, acceleration, cruising }
+    }
+
+    fn seconds(&self) -> f64 {
+        let cruise = if self.cruising > 0.0 { self.cruising / self.peak } else { 0.0 };
+        (self.peak - self.entry) / self.acceleration + (self.peak - self.exit) / self.acceleration + cruise
+    }
+
+    /// How often a timer stepping the block at `steps_per_unit` ticks, as
+    /// GRBL's does with its step smoothing.
+    fn timer_ticks(&self, steps_per_unit: f64) -> f64 {
+        // A ramp covers (high² - low²) / 2a of its length between two speeds.
+        let ramp = |a: f64, b: f64| {
+            let (low, high) = (a.min(b), a.max(b));
+            let bands = TICKS_PER_STEP.iter().zip(TICKS_PER_STEP.iter().skip(1).map(|t| t.0).chain([f64::INFINITY]));
+            bands
+                .map(|(&(from, ticks), to)| {
+                    let (from, to) = ((from / steps_per_unit).clamp(low, high), (to / steps_per_unit).clamp(low, high));
+                    ticks * (to * to - from * from) / (2.0 * self.acceleration)
+                })
+                .sum::<f64>()
+        };
+        let cruise = self.cruising * ticks_per_step(self.peak * steps_per_unit);
+        steps_per_unit * (ramp(self.entry, self.peak) + cruise + ramp(self.peak, self.exit))
+    }
+
+    /// The step timer's period in the last segment of a block that brakes
+    /// to a stop, seconds, on a clock of `clock` Hz: that segment's steady
+    /// rate is its mean speed. 0 for a block that does not stop.
+    fn last_period(&self, steps_per_unit: f64, clock: f64) -> f64 {
+        if self.exit > 0.0 {
+            return 0.0;
+        }
+        let braking = (self.peak - self.exit) / self.acceleration;
+        let least = (2.0 * SEGMENT_LEAST_STEPS / (self.acceleration * steps_per_unit)).sqrt();
+        let last = SEGMENT_SECONDS.max(least).min(braking);
+        let rate = steps_per_unit * self.acceleration * last / 2.0;
+        if rate.is_nan() || rate <= 0.0 {
+            return 0.0;
+        }
+        (clock / (ticks_per_step(rate) * rate)).round() / clock
     }
 }

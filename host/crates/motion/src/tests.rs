@@ -56,6 +56,38 @@ fn a_line_from_rest_to_rest() {
 }
 
 #[test]
+fn each_tick_of_the_step_timer_takes_a_cycle_more() {
+    // 100 mm at F3000 is 25,000 steps at 250 steps/mm. GRBL's timer ticks 8
+    // times a step below 2000 steps/s (8 mm/s), 4 below 16 mm/s, 2 below
+    // 32 mm/s: each ramp takes 0.064 mm (16 steps) below 8 mm/s, 0.192 mm
+    // (48) to 16 mm/s and 0.768 mm (192) to 32 mm/s, so the two ramps and
+    // the rest tick 2 (16·8 + 48·4 + 192·2) + 25,000 − 2 (16 + 48 + 192) =
+    // 25,896 times, each a cycle of 16 MHz longer than asked.
+    let exact = 2.1;
+    let planned = plan("G21 G90\nG01 X100 F3000\n");
+    within(planned, exact + 25_896.0 / 16e6, 1e-9);
+    // GRBL itself: 2.101623 s (the peer's README, case 01).
+    within(planned, 2.101623, 5e-6);
+    let without = plan_with("G21 G90\nG01 X100 F3000\n", &config("[machine.motion]\nstep_clock = 0\n")).0;
+    within(without, exact, 1e-12);
+}
+
+#[test]
+fn after_a_stop_the_step_timer_first_runs_out_its_last_period() {
+    // Two 2 mm lines at F600 (10 mm/s), a speed change between them that
+    // GRBL waits for the first to stop at. Each: ramps of 0.1 mm, 0.02 s
+    // each, 1.8 mm at 10 mm/s: 0.22 s; its timer ticks 8 times a step for
+    // the first and last 16 steps (below 8 mm/s), 4 times for the other
+    // 468: 2128 ticks, 0.133 ms. Braking to the stop, GRBL's last 10 ms segment steps at
+    // its mean speed, 2.5 mm/s, 625 steps/s, 8 ticks a step: the timer is
+    // left ticking every 0.2 ms, and the second line starts a tick late.
+    let planned = plan("G21 G90\nM3 S1000\nG01 X2 F600\nS2000\nG01 X4\nM5\n");
+    within(planned, 2.0 * (0.22 + 2128.0 / 16e6) + 0.0002, 1e-9);
+    // GRBL itself (gtime.py): 0.440432 s.
+    within(planned, 0.440432, 1e-4);
+}
+
+#[test]
 fn a_line_too_short_to_reach_its_feed() {
     // 2 mm, but reaching 50 mm/s takes 2.5 mm each way: up to the middle and
     // down again, 2 sqrt(L / a) = 2 sqrt(2 / 500).
@@ -91,8 +123,8 @@ fn a_rapid_runs_each_axis_at_its_limit() {
 fn corner(degrees: f64) -> f64 {
     let turn = (180.0 - degrees).to_radians();
     let (x, y) = (50.0 + 50.0 * turn.cos(), 50.0 * turn.sin());
-    // Exact ends: no steps' grid to round them to.
-    let config = config("[machine.motion]\nsteps_per_unit = [1e6, 1e6, 1e6]\n");
+    // Exact ends: no steps' grid to round them to, and no step timer's cycles.
+    let config = config("[machine.motion]\nsteps_per_unit = [1e6, 1e6, 1e6]\nstep_clock = 0\n");
     plan_with(&format!("G21 G90\nG01 X50 Y0 F3000\nX{x:.6} Y{y:.6}\n"), &config).0
 }
 

@@ -44,6 +44,10 @@ pub struct MotionConfig {
     /// that steps most: a move programmed slower runs at this rate. 0: no
     /// such floor.
     pub slowest_step_rate: Option<f64>,
+    /// The step timer's clock, Hz: each tick of the timer takes one cycle
+    /// more than the step rate asks, as a timer that counts to its compare
+    /// value inclusive does (GRBL on a 16 MHz AVR: 16000000). 0: exact timing.
+    pub step_clock: Option<f64>,
     /// The settings read from `grbl_settings` (the engine reads the file).
     #[serde(skip)]
     pub grbl: Option<GrblSettings>,
@@ -58,7 +62,7 @@ pub enum Preset {
     /// mm/min and 500 mm/s², Z at 1000 mm/min and 200 mm/s², junction
     /// deviation 0.01 mm, arc tolerance 0.002 mm, a 16-block planner, dwells
     /// in steps of 50 ms, 250 steps per mm, and no step slower than a 16 MHz
-    /// board's step timer goes ([`GRBL_SLOWEST_STEP_RATE`]).
+    /// board's step timer goes ([`GRBL_SLOWEST_STEP_RATE`]), on its clock ([`GRBL_STEP_CLOCK`]).
     GrblDefault,
 }
 
@@ -82,6 +86,7 @@ impl Preset {
                 tool_change_time: 0.0,
                 dwell_multiple: 0.05,
                 slowest_step_rate: GRBL_SLOWEST_STEP_RATE,
+                step_clock: GRBL_STEP_CLOCK,
             },
         }
     }
@@ -92,7 +97,10 @@ impl Preset {
 /// 65,535 cycles of its 16 MHz clock, plus the one every tick adds (as the
 /// GRBL peer measures: a move below about 7.3 mm/min at 250 steps per mm
 /// takes 8 × 65,536 cycles a step).
-pub const GRBL_SLOWEST_STEP_RATE: f64 = 16_000_000.0 / (8.0 * 65_536.0);
+pub const GRBL_SLOWEST_STEP_RATE: f64 = GRBL_STEP_CLOCK / (8.0 * 65_536.0);
+
+/// The clock of GRBL 1.1h's step timer on an Arduino Uno's AVR, Hz.
+pub const GRBL_STEP_CLOCK: f64 = 16_000_000.0;
 
 /// The numbers of a profile, without where they came from (serialised as
 /// `ger check --format json` reports them).
@@ -112,6 +120,8 @@ pub struct Machine {
     pub dwell_multiple: f64,
     /// Steps per second of the axis that steps most; 0 for none.
     pub slowest_step_rate: f64,
+    /// Hz; 0 for exact step timing.
+    pub step_clock: f64,
 }
 
 impl Machine {
@@ -159,6 +169,7 @@ impl MotionConfig {
         machine.tool_change_time = keys.tool_change_time.unwrap_or(machine.tool_change_time);
         machine.dwell_multiple = keys.dwell_multiple.unwrap_or(machine.dwell_multiple);
         machine.slowest_step_rate = keys.slowest_step_rate.unwrap_or(machine.slowest_step_rate);
+        machine.step_clock = keys.step_clock.unwrap_or(machine.step_clock);
         MotionProfile { machine, preset, grbl_settings: self.grbl_settings.clone(), configured }
     }
 
@@ -190,6 +201,15 @@ impl MotionConfig {
         number("tool_change_time", self.tool_change_time, (0.0, MAX_TOOL_CHANGE_TIME), "seconds")?;
         number("dwell_multiple", self.dwell_multiple, (0.0, MAX_DWELL_MULTIPLE), "seconds")?;
         number("slowest_step_rate", self.slowest_step_rate, (0.0, MAX_STEP_RATE), "steps per second")?;
+        // A clock slower than a few kHz could not step at all.
+        if self.step_clock.is_some_and(|hz| hz != 0.0 && !(MIN_STEP_CLOCK..=MAX_STEP_CLOCK).contains(&hz)) {
+            let message = format!(
+                "[machine.motion] step_clock must be 0 (exact timing) or from {} to {} Hz",
+                quoted(MIN_STEP_CLOCK),
+                quoted(MAX_STEP_CLOCK)
+            );
+            return Err(at(&key("step_clock"), message));
+        }
         if self.planner_blocks.is_some_and(|n| !(2..=MAX_PLANNER_BLOCKS).contains(&n)) {
             let message = format!("[machine.motion] planner_blocks must be from 2 to {MAX_PLANNER_BLOCKS}");
             return Err(at(&key("planner_blocks"), message));
@@ -206,6 +226,9 @@ const MAX_TOOL_CHANGE_TIME: f64 = 3600.0;
 const MAX_DWELL_MULTIPLE: f64 = 10.0;
 /// Step generators run up to a few MHz.
 const MAX_STEP_RATE: f64 = 10_000_000.0;
+/// Step timers run on clocks from a kHz (a PC's parallel port) to a few GHz.
+const MIN_STEP_CLOCK: f64 = 1000.0;
+const MAX_STEP_CLOCK: f64 = 10_000_000_000.0;
 
 /// What a profile's numbers may be, in one unit.
 struct Limits {
