@@ -246,26 +246,35 @@ fn timed_with_two_tools(program: &str, mut config: Config) -> Verdict {
     checker.finish()
 }
 
+/// A 100 mm line at 50 mm/s from rest to rest on the grbl-default profile
+/// (X at 500 mm/s²): 2 + 50 / 500 = 2.1 s, and the 25,896 ticks of GRBL's
+/// step timer a cycle late each at 16 MHz (ger-motion's tests work both out).
+const LINE: f64 = 2.1 + 25_896.0 / 16e6;
+/// After a stop the machine stands at (a tool change), the next move waits
+/// out the step timer's period, 0.2 ms at the end of such a line.
+const RESTART: f64 = 0.0002;
+
 #[test]
 fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
-    // Five 100 mm lines at 50 mm/s, each from rest to rest (each turns back
-    // on the last, or follows a tool change): 2 + 50 / 500 = 2.1 s each. The
-    // grbl-default profile: X at 500 mm/s².
+    // Five such lines, each from rest to rest (each turns back on the last,
+    // or follows a tool change).
     let program = "G21\nG01 X100 F3000\nM98 P10\nM06 T2\nM98 P10\nM30\nO10\nG01 X0\nG01 X100\nM99\n";
     let verdict = timed_with_two_tools(program, config());
     let planned = &verdict.summary.planned;
     let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
-    assert!(near(planned.seconds, 5.0 * 2.1), "{planned:?}");
-    assert_eq!(planned.moving.map(|[a, b]| (near(a, 0.0), near(b, 10.5))), Some((true, true)), "{planned:?}");
+    let total = 5.0 * LINE + RESTART;
+    assert!(near(planned.seconds, total), "{planned:?}");
+    assert_eq!(planned.moving.map(|[a, b]| (near(a, 0.0), near(b, total))), Some((true, true)), "{planned:?}");
     let tools: Vec<(u32, f64)> = planned.tools.iter().map(|t| (t.number, t.seconds)).collect();
-    assert!(tools.len() == 2 && tools[0].0 == 1 && near(tools[0].1, 6.3), "{tools:?}");
-    assert!(tools[1].0 == 2 && near(tools[1].1, 4.2), "{tools:?}");
+    assert!(tools.len() == 2 && tools[0].0 == 1 && near(tools[0].1, 3.0 * LINE), "{tools:?}");
+    assert!(tools[1].0 == 2 && near(tools[1].1, 2.0 * LINE + RESTART), "{tools:?}");
     let calls: Vec<(&str, u32, f64)> = planned.calls.iter().map(|c| (c.name.as_str(), c.line, c.seconds)).collect();
-    assert!(calls.len() == 2 && calls.iter().all(|c| c.0 == "O10" && near(c.2, 4.2)), "{calls:?}");
+    assert!(calls.len() == 2 && calls.iter().all(|c| c.0 == "O10"), "{calls:?}");
+    assert!(near(calls[0].2, 2.0 * LINE) && near(calls[1].2, 2.0 * LINE + RESTART), "{calls:?}");
     assert_eq!((calls[0].1, calls[1].1), (3, 5));
     // Each line is reached when the one before it is done; the call lines
     // hold their subprogram's moves.
-    let expected = [0.0, 0.0, 2.1, 6.3, 6.3, 10.5];
+    let expected = [0.0, 0.0, LINE, 3.0 * LINE, 3.0 * LINE, total];
     assert_eq!(verdict.line_times.len(), expected.len(), "{:?}", verdict.line_times);
     assert!(verdict.line_times.iter().zip(expected).all(|(a, b)| near(*a, b)), "{:?}", verdict.line_times);
     // The profile is said: grbl-default, as no [machine.motion] is given.
@@ -275,24 +284,25 @@ fn the_planned_time_is_counted_by_tool_by_call_and_by_line() {
 
 #[test]
 fn the_lenient_dialects_calls_are_timed_as_pass_00s_are() {
-    // The same five 2.1 s lines, in LinuxCNC's o-word sub and a Fanuc
-    // program that the interpreter stage runs: each call's time is its
-    // two lines', counted at the call's line, which is reached when the
-    // line before it is done.
+    // The same five lines, in LinuxCNC's o-word sub and a Fanuc program
+    // that the interpreter stage runs: each call's time is its two lines',
+    // counted at the call's line, which is reached when the line before it
+    // is done.
     let program = "o10 sub\nG01 X0\nG01 X100\no10 endsub\nG21\nG01 X100 F3000\no10 call\nM06 T2\nM98 P20\nM30\n\
                    O20\nG01 X0\nG01 X100\nM99\n";
     let mut config = config();
     config.dialect.name = ger_core::statement::Dialect::Lenient;
     let verdict = timed_with_two_tools(program, config);
     let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
-    assert!(near(verdict.summary.planned.seconds, 5.0 * 2.1), "{:?}", verdict.summary.planned);
+    assert!(near(verdict.summary.planned.seconds, 5.0 * LINE + RESTART), "{:?}", verdict.summary.planned);
     let calls: Vec<(&str, u32, f64)> =
         verdict.summary.planned.calls.iter().map(|c| (c.name.as_str(), c.line, c.seconds)).collect();
     assert_eq!(calls.len(), 2, "{calls:?}");
-    assert!(calls[0].0.eq_ignore_ascii_case("o10") && calls[0].1 == 7 && near(calls[0].2, 4.2), "{calls:?}");
-    assert!(calls[1].0 == "O20" && calls[1].1 == 9 && near(calls[1].2, 4.2), "{calls:?}");
+    assert!(calls[0].0.eq_ignore_ascii_case("o10") && calls[0].1 == 7 && near(calls[0].2, 2.0 * LINE), "{calls:?}");
+    assert!(calls[1].0 == "O20" && calls[1].1 == 9 && near(calls[1].2, 2.0 * LINE + RESTART), "{calls:?}");
     let (call, tool_change, fanuc_call) = (verdict.line_times[6], verdict.line_times[7], verdict.line_times[8]);
-    assert!(near(call, 2.1) && near(tool_change, 6.3) && near(fanuc_call, 6.3), "{:?}", verdict.line_times);
+    let reached = [(call, LINE), (tool_change, 3.0 * LINE), (fanuc_call, 3.0 * LINE)];
+    assert!(reached.iter().all(|&(a, b)| near(a, b)), "{:?}", verdict.line_times);
 }
 
 #[test]
