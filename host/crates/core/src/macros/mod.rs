@@ -527,9 +527,9 @@ pub struct Interpreter<'a, L> {
     from_files: HashMap<String, String>,
     /// The program's first line of code: an `O` number there is its name.
     first_code_line: Option<u32>,
-    /// The line whose `O` number names the main program, where the file's
-    /// first program is a subprogram and the main one follows it.
-    main_program: Option<u32>,
+    /// The M99 that ends the file's first program, where that program is
+    /// the main one and returns.
+    main_return: Option<u32>,
     /// The line and call level of the last error since a GOTO jumped back:
     /// a GOTO does not jump back over it again.
     last_error: Option<(u32, usize)>,
@@ -591,7 +591,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
             files: None,
             from_files: HashMap::new(),
             first_code_line: None,
-            main_program: None,
+            main_return: None,
             local_lines: Vec::new(),
             ended: false,
             fadal_subroutines: false,
@@ -794,7 +794,9 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         let mut words = line.words();
         let (letter, value, span) = words.next()?;
         let keyword = match letter {
-            'O' if !self.names_the_program(line.number()) && value >= 0.0 && value.fract() == 0.0 => Keyword::Program,
+            'O' if self.first_code_line != Some(line.number()) && value >= 0.0 && value.fract() == 0.0 => {
+                Keyword::Program
+            }
             _ if std::iter::once((letter, value, span)).chain(words).any(|(l, v, _)| l == 'M' && v == 99.0) => {
                 Keyword::EndProgram
             }
@@ -804,44 +806,30 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         Some(Control { label, keyword, args: Vec::new(), span, fanuc: true, computed: None })
     }
 
-    /// Whether the `O` number on `line` is the main program's name, not
-    /// the head of a program it calls.
-    fn names_the_program(&self, line: u32) -> bool {
-        self.main_program.map_or(self.first_code_line == Some(line), |main| main == line)
-    }
-
-    /// A file of Fanuc programs may open with its subprograms and hold the
-    /// main program after them, as a listing of the programs a job loads
-    /// does (`O1000` ... `M99`, then `O0001` ... `M30`): a control runs
-    /// the program the operator selects, and the one to select is the first
-    /// that ends the run, with M30 or M2, not a return. The programs before
-    /// it are defined, as those after a main program are. Read ahead for it
-    /// (at most `MAIN_PROGRAM_LOOKAHEAD` lines) only when the first line of
-    /// code opens a program: unless that program ends with M99, it is the
-    /// main one.
-    fn find_main_program(&mut self) {
-        // The O line of the program read through, once the first has returned.
-        let mut after_a_return: Option<Option<u32>> = None;
+    /// A file that opens with a program ending in M99 (`O1000` ... `M99`,
+    /// then perhaps `O0001` ... `M30`, as a listing of a job's programs
+    /// is): LinuxCNC runs its first program as the main one, and the M99
+    /// ends the run there; what follows is only looked in for the programs
+    /// it calls (where a Fanuc would run the program its operator
+    /// selects). Read ahead (at most `MAIN_PROGRAM_LOOKAHEAD` lines) for
+    /// that program's end: an M99 before any M30 or M2.
+    fn find_main_return(&mut self) {
         for _ in 0..MAIN_PROGRAM_LOOKAHEAD {
             let Some(line) = whole_line(&mut self.tokens, &mut self.line) else { break };
-            let opens = opens_a_program(&line).then(|| line.number());
             let ends = line.words().find_map(|(letter, value, _)| match (letter, value) {
                 ('M', 99.0) => Some(false),
                 ('M', 30.0 | 2.0) => Some(true),
                 _ => None,
             });
+            let number = line.number();
             self.unread.push_back(line);
-            if let (Some(None), Some(_)) = (after_a_return, opens) {
-                after_a_return = Some(opens);
-            }
-            match (ends, after_a_return) {
-                (Some(true), Some(main @ Some(_))) => {
-                    self.main_program = main;
+            match ends {
+                Some(true) => return,
+                Some(false) => {
+                    self.main_return = Some(number);
                     return;
                 }
-                (Some(true), _) => return,
-                (Some(false), _) => after_a_return = Some(None),
-                (None, _) => {}
+                None => {}
             }
         }
     }
@@ -1606,7 +1594,7 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         };
         if self.fanuc_programs && self.first_code_line.is_none() && self.structure.is_empty() && opens_a_program(&line)
         {
-            self.find_main_program();
+            self.find_main_return();
         }
         self.note(&line);
         Some(line)
@@ -1881,11 +1869,29 @@ impl<'a, L: Iterator<Item = Piece>> Interpreter<'a, L> {
         true
     }
 
-    /// The end of the program: blocks never closed are errors at their head.
+    /// The end of the program: blocks never closed are errors at their
+    /// head; but a Fanuc program after a main program that returned (one
+    /// that ends with M30, say) is one of the file's programs, never run.
     fn finish(&mut self) {
         for open in std::mem::take(&mut self.open) {
-            let message = format!("{} is never closed", open.head.describe());
-            self.error(Diagnostic::error(open.head.span, message));
+            let head = &open.head;
+            let listed = head.fanuc && head.keyword == Keyword::Program;
+            match self.main_return {
+                Some(end) if listed && head.span.line > end => {
+                    let message = format!(
+                        "{} is a program of its own after the main program's M99 (line {end}): LinuxCNC never runs \
+                         it, and neither does ger",
+                        head.describe()
+                    );
+                    let help = "a Fanuc runs the program its operator selects; put the main program first, and its \
+                                subprograms after its M30";
+                    self.diagnostic(Diagnostic::warning(head.span, message).with_help(help));
+                }
+                _ => {
+                    let message = format!("{} is never closed", head.describe());
+                    self.error(Diagnostic::error(head.span, message));
+                }
+            }
         }
     }
 }
@@ -2003,7 +2009,7 @@ fn fadal_call(tokens: &[Token]) -> Option<(u32, u32, Span)> {
 }
 
 /// How many lines a file's first program is read through for its end, to
-/// find whether it is a subprogram (`Interpreter::find_main_program`).
+/// find whether it returns with M99 (`Interpreter::find_main_return`).
 const MAIN_PROGRAM_LOOKAHEAD: usize = 10_000;
 
 /// Whether a line opens a Fanuc program: it starts with a whole `O` number.
@@ -2682,13 +2688,25 @@ mod tests {
     }
 
     #[test]
-    fn a_file_that_opens_with_its_subprograms_runs_the_program_that_ends_with_m30() {
-        // Two subprograms (each ending with M99), then the main program, each framed by `%`.
-        same_as_twin(
-            "%\nO1000 (SQUARE)\nG91 G01 X10 F100\nY10\nG90\nM99\n%\n%\nO2000\nG00 Z5\nM99\n%\n\
-             %\nO0001 (MAIN)\nG21 G90\nG00 X0 Y0\nM98 P1000 L2\nM98 P2000\nG00 X50\nM30\n%",
-            "G21 G90\nG00 X0 Y0\nG91 G01 X10 F100\nY10\nG90\nG91 G01 X10\nY10\nG90\nG00 Z5\nG00 X50\nM30",
-        );
+    fn a_file_whose_first_program_returns_ends_at_its_m99_as_linuxcnc_runs_it() {
+        // As rs274 runs it: the first program is the main one, and its M99
+        // ends the run; the programs after it (the main one a Fanuc operator
+        // would select among them) are not run.
+        let program = "%\nO1000 (SQUARE)\nG21 G91 G01 X10 F100\nY10\nG90\nM99\n%\n%\nO2000\nG00 Z5\nM99\n%\n\
+                       %\nO0001 (MAIN)\nG21 G90\nG00 X0 Y0\nM98 P1000 L2\nM98 P2000\nG00 X50\nM30\n%";
+        let config = Config { dialect: Dialect::Lenient.into(), units: Units::Mm, ..Config::default() };
+        let got = run_with(program, &config, 4);
+        let warning = "14:1: warning: O1 is a program of its own after the main program's M99 (line 6): LinuxCNC \
+                       never runs it, and neither does ger";
+        let moves =
+            ["G01 X10.000 F100.000", "G01 Y10.000", "M30", "6:1: warning: M99 in the main program ends it here"];
+        assert_eq!(got[..4], moves, "{got:?}");
+        assert!(got.contains(&warning.to_string()), "{got:?}");
+        assert!(!got.iter().any(|line| line.contains("error")), "{got:?}");
+        // Its calls still find the programs after it, as LinuxCNC's do
+        // (LinuxCNC's test m98m99/12-M99-endless-main-program).
+        let got = run_with("O1\nG21 G01 X1 F40\nM98 P100\nG01 X5\nM99\nO100\nG01 Y-4\nM99", &config, 4);
+        assert_eq!(got[..4], ["G01 X1.000 F40.000", "G01 Y-4.000", "G01 X5.000", "M30"], "{got:?}");
         // A first program that ends the run is the main one: what follows is defined, run where called.
         same_as_twin("O0001\nG21 G90 F100\nM98 P1000\nM30\nO1000\nG01 X5\nM99", "G21 G90 F100\nG01 X5\nM30");
     }
