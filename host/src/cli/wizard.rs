@@ -380,6 +380,16 @@ pub(super) fn watch(input: &ProgramSource, common: &CommonArgs, mut once: impl F
             })
         })
     };
+    // Saves come in bursts (truncate, write, rename): a burst is let settle
+    // before the run, so one save is one run even when the burst began
+    // while the last run was still going.
+    let settle = |mut changed: bool| {
+        std::thread::sleep(Duration::from_millis(100));
+        while let Ok(event) = rx.try_recv() {
+            changed |= matters(event, &relevant);
+        }
+        changed
+    };
     loop {
         if let Err(err) = once() {
             eprint!("{}", super::error::render(&err));
@@ -391,17 +401,13 @@ pub(super) fn watch(input: &ProgramSource, common: &CommonArgs, mut once: impl F
             changed |= matters(event, &|p: &Path| relevant(p) && p.extension().is_none_or(|e| e != "wasm"));
         }
         if changed {
+            settle(true);
             continue;
         }
         eprintln!("ger: watching {} and {} for changes (Ctrl-C stops)", program.display(), wizards.display());
         while !changed {
             let event = rx.recv().map_err(|_| anyhow!("the file watcher stopped"))?;
-            changed = matters(event, &relevant);
-            // Saves come in bursts: let them settle, then run once.
-            std::thread::sleep(Duration::from_millis(100));
-            while let Ok(event) = rx.try_recv() {
-                changed |= matters(event, &relevant);
-            }
+            changed = settle(matters(event, &relevant));
         }
     }
 }
