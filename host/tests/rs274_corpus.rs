@@ -21,7 +21,7 @@ mod support;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -63,8 +63,8 @@ impl Outcome {
 /// The machine of `corpus::ger_config` for rs274, in the program's own unit
 /// as ger runs it: the same tools (rs274 has more, of no diameter, since ger
 /// does not look a tool up before it needs its diameter).
-fn rs274_machine(entry: &Entry) -> Machine {
-    let inches = entry.units() == "in";
+fn rs274_machine(units: &str) -> Machine {
+    let inches = units == "in";
     let diameter = corpus::TOOL_DIAMETER * if inches { 25.4 } else { 1.0 };
     let mut machine = Machine { inches, ..Machine::default() };
     for (number, tool_diameter) in &mut machine.tools {
@@ -75,13 +75,13 @@ fn rs274_machine(entry: &Entry) -> Machine {
     machine
 }
 
-fn compare(file: &Path, entry: &Entry, config: &Path, machine: &Machine) -> Outcome {
+fn compare(file: &Path, units: &str, config: &Path, machine: &Machine) -> Outcome {
     let peer = match rs274::moves(file, machine, TIME_LIMIT) {
         Ok(moves) => moves,
         Err(Refusal::Error(why)) => return Outcome::Rs274Refuses(why),
         Err(Refusal::TimedOut) => return Outcome::Rs274TimedOut,
     };
-    let run = corpus::translate(file, entry.units(), config, TIME_LIMIT);
+    let run = corpus::translate(file, units, config, TIME_LIMIT);
     if run.timed_out {
         return Outcome::GerBroken(format!("ger runs for more than {} s", TIME_LIMIT.as_secs()));
     }
@@ -97,6 +97,25 @@ fn compare(file: &Path, entry: &Entry, config: &Path, machine: &Machine) -> Outc
         Ok(agreement) => Outcome::Agree(agreement.moves),
         Err(disagreement) => Outcome::Disagree(disagreement.to_string()),
     }
+}
+
+/// Each program compared (`compare`): rs274 is slow on large files, so the
+/// programs are shared out among the cores.
+fn compare_all(jobs: &[(PathBuf, &str, Machine)], config: &Path) -> Vec<Outcome> {
+    let next = AtomicUsize::new(0);
+    let outcomes: Mutex<Vec<Option<Outcome>>> = Mutex::new(jobs.iter().map(|_| None).collect());
+    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some((file, units, machine)) = jobs.get(k) else { break };
+                let outcome = compare(file, units, config, machine);
+                outcomes.lock().unwrap()[k] = Some(outcome);
+            });
+        }
+    });
+    outcomes.into_inner().unwrap().into_iter().map(Option::unwrap).collect()
 }
 
 /// The listed disagreements: file and reason, from `DIFFERENCES`.
@@ -135,24 +154,10 @@ fn ger_moves_like_rs274_on_the_corpus() {
     let entries: Vec<Entry> =
         corpus::entries(&corpus).into_iter().filter(|e| !matches!(e.class(), Class::Other(_))).collect();
 
-    // rs274 is slow on large files: the programs are shared out among the cores.
     let started = Instant::now();
-    let next = AtomicUsize::new(0);
-    let outcomes: Mutex<Vec<Option<Outcome>>> = Mutex::new(entries.iter().map(|_| None).collect());
-    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| loop {
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                let Some(entry) = entries.get(k) else { break };
-                let machine = rs274_machine(entry);
-                let outcome = compare(&corpus.join(&entry.path), entry, &config, &machine);
-                outcomes.lock().unwrap()[k] = Some(outcome);
-            });
-        }
-    });
-    let outcomes: Vec<Outcome> = outcomes.into_inner().unwrap().into_iter().map(Option::unwrap).collect();
-    eprintln!("{} programs in {:.1} s on {workers} threads", entries.len(), started.elapsed().as_secs_f64());
+    let jobs: Vec<_> = entries.iter().map(|e| (corpus.join(&e.path), e.units(), rs274_machine(e.units()))).collect();
+    let outcomes = compare_all(&jobs, &config);
+    eprintln!("{} programs in {:.1} s", entries.len(), started.elapsed().as_secs_f64());
 
     let listed = listed(&repository);
     let mut problems = Vec::new();
@@ -263,4 +268,67 @@ fn ger_moves_like_rs274_on_the_corpus() {
          and `git diff {}`",
         results.display()
     );
+}
+
+/// The same comparison on programs from outside the corpus: those of the
+/// folder `GER_RS274_FOLDER` and its subfolders, each in the unit of its first
+/// G20 or G21 (mm if it names none), tools 1-20 as in the corpus. Prints a
+/// table of the outcomes; fails where ger breaks (a crash, a hang). Run by
+/// hand: `GER_RS274_FOLDER=dir cargo test --test rs274_corpus -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore = "run by hand on a folder of programs (GER_RS274_FOLDER)"]
+fn ger_moves_like_rs274_on_the_programs_of_a_folder() {
+    let folder = PathBuf::from(std::env::var_os("GER_RS274_FOLDER").expect("GER_RS274_FOLDER names the folder"));
+    assert!(rs274::available(), "rs274 (Debian package linuxcnc-uspace) is not installed");
+    let scratch = tempfile::tempdir().unwrap();
+    let config = corpus::ger_config(scratch.path());
+    let mut files = Vec::new();
+    let mut folders = vec![folder.clone()];
+    while let Some(dir) = folders.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap().map(Result::unwrap) {
+            let path = entry.path();
+            let listing = path.extension().is_some_and(|e| e == "tsv" || e == "md");
+            if path.is_dir() {
+                folders.push(path);
+            } else if !listing {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    let jobs: Vec<_> = files
+        .into_iter()
+        .map(|file| {
+            let units = units_named(&String::from_utf8_lossy(&std::fs::read(&file).unwrap()));
+            (file, units, rs274_machine(units))
+        })
+        .collect();
+    let outcomes = compare_all(&jobs, &config);
+    let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut broken = Vec::new();
+    for ((file, _, _), outcome) in jobs.iter().zip(&outcomes) {
+        let (result, detail) = outcome.cells();
+        *counts.entry(result).or_default() += 1;
+        let name = file.strip_prefix(&folder).unwrap_or(file).display();
+        println!("| `{name}` | {result} | {} |", cell(&detail));
+        if matches!(outcome, Outcome::GerBroken(_)) {
+            broken.push(format!("{name}: {detail}"));
+        }
+    }
+    println!("\n{} programs: {counts:?}", jobs.len());
+    assert!(broken.is_empty(), "ger broke on:\n{}", broken.join("\n"));
+}
+
+/// `in` where the first of G20 and G21 a program names is G20, else `mm`.
+fn units_named(text: &str) -> &'static str {
+    let upper = text.to_ascii_uppercase();
+    let first = |word: &str| {
+        upper.match_indices(word).map(|(i, _)| i).find(|&i| !upper[i + 3..].starts_with(|c: char| c.is_ascii_digit()))
+    };
+    match (first("G20"), first("G21")) {
+        (Some(inch), Some(mm)) if inch < mm => "in",
+        (Some(_), None) => "in",
+        _ => "mm",
+    }
 }
