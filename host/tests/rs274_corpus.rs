@@ -75,8 +75,8 @@ fn rs274_machine(units: &str) -> Machine {
     machine
 }
 
-fn compare(file: &Path, units: &str, config: &Path, machine: &Machine) -> Outcome {
-    let peer = match rs274::moves(file, machine, TIME_LIMIT) {
+fn compare(file: &Path, units: &str, config: &Path) -> Outcome {
+    let peer = match rs274::moves(file, &rs274_machine(units), TIME_LIMIT) {
         Ok(moves) => moves,
         Err(Refusal::Error(why)) => return Outcome::Rs274Refuses(why),
         Err(Refusal::TimedOut) => return Outcome::Rs274TimedOut,
@@ -101,7 +101,7 @@ fn compare(file: &Path, units: &str, config: &Path, machine: &Machine) -> Outcom
 
 /// Each program compared (`compare`): rs274 is slow on large files, so the
 /// programs are shared out among the cores.
-fn compare_all(jobs: &[(PathBuf, &str, Machine)], config: &Path) -> Vec<Outcome> {
+fn compare_all(jobs: &[(PathBuf, &str)], config: &Path) -> Vec<Outcome> {
     let next = AtomicUsize::new(0);
     let outcomes: Mutex<Vec<Option<Outcome>>> = Mutex::new(jobs.iter().map(|_| None).collect());
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
@@ -109,8 +109,8 @@ fn compare_all(jobs: &[(PathBuf, &str, Machine)], config: &Path) -> Vec<Outcome>
         for _ in 0..workers {
             scope.spawn(|| loop {
                 let k = next.fetch_add(1, Ordering::Relaxed);
-                let Some((file, units, machine)) = jobs.get(k) else { break };
-                let outcome = compare(file, units, config, machine);
+                let Some((file, units)) = jobs.get(k) else { break };
+                let outcome = compare(file, units, config);
                 outcomes.lock().unwrap()[k] = Some(outcome);
             });
         }
@@ -155,7 +155,7 @@ fn ger_moves_like_rs274_on_the_corpus() {
         corpus::entries(&corpus).into_iter().filter(|e| !matches!(e.class(), Class::Other(_))).collect();
 
     let started = Instant::now();
-    let jobs: Vec<_> = entries.iter().map(|e| (corpus.join(&e.path), e.units(), rs274_machine(e.units()))).collect();
+    let jobs: Vec<_> = entries.iter().map(|e| (corpus.join(&e.path), e.units())).collect();
     let outcomes = compare_all(&jobs, &config);
     eprintln!("{} programs in {:.1} s", entries.len(), started.elapsed().as_secs_f64());
 
@@ -301,13 +301,13 @@ fn ger_moves_like_rs274_on_the_programs_of_a_folder() {
         .into_iter()
         .map(|file| {
             let units = units_named(&String::from_utf8_lossy(&std::fs::read(&file).unwrap()));
-            (file, units, rs274_machine(units))
+            (file, units)
         })
         .collect();
     let outcomes = compare_all(&jobs, &config);
     let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
     let mut broken = Vec::new();
-    for ((file, _, _), outcome) in jobs.iter().zip(&outcomes) {
+    for ((file, _), outcome) in jobs.iter().zip(&outcomes) {
         let (result, detail) = outcome.cells();
         *counts.entry(result).or_default() += 1;
         let name = file.strip_prefix(&folder).unwrap_or(file).display();
@@ -327,8 +327,7 @@ fn units_named(text: &str) -> &'static str {
         upper.match_indices(word).map(|(i, _)| i).find(|&i| !upper[i + 3..].starts_with(|c: char| c.is_ascii_digit()))
     };
     match (first("G20"), first("G21")) {
-        (Some(inch), Some(mm)) if inch < mm => "in",
-        (Some(_), None) => "in",
+        (Some(inch), mm) if mm.is_none_or(|mm| inch < mm) => "in",
         _ => "mm",
     }
 }
